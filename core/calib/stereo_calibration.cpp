@@ -1,0 +1,244 @@
+// Calibration data: the file format (OpenCV FileStorage with the stereo_calib sample's names),
+// its validation, the nominal HBVCAM model and rectification maps.
+#include "core/calib/stereo_calibration.hpp"
+
+#include <cmath>
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "core/common/error.hpp"
+
+namespace icewatch::calib {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+[[noreturn]] void failEntry(const std::string& where, const std::string& entry, const std::string& what) {
+    throw Error(kExitDataErr, where + ": " + entry + ": " + what);
+}
+
+void checkMatrix(const cv::Mat& m, const std::string& where, const std::string& entry, int rows, int cols) {
+    if (m.empty()) {
+        failEntry(where, entry, "missing");
+    }
+    if (m.rows != rows || m.cols != cols) {
+        failEntry(where, entry, "must be " + std::to_string(rows) + "x" + std::to_string(cols) + ", got " +
+                                    std::to_string(m.rows) + "x" + std::to_string(m.cols));
+    }
+    if (m.type() != CV_64FC1) {
+        failEntry(where, entry, "must hold double-precision numbers");
+    }
+    if (!cv::checkRange(m)) {
+        failEntry(where, entry, "holds a value that is not a finite number");
+    }
+}
+
+void checkCameraMatrix(const cv::Mat& m, const std::string& where, const std::string& entry, cv::Size size) {
+    checkMatrix(m, where, entry, 3, 3);
+    const double fx = m.at<double>(0, 0), fy = m.at<double>(1, 1);
+    if (fx <= 0 || fy <= 0) {
+        failEntry(where, entry, "focal lengths must be positive");
+    }
+    if (m.at<double>(1, 0) != 0 || m.at<double>(2, 0) != 0 || m.at<double>(2, 1) != 0 ||
+        m.at<double>(2, 2) != 1) {
+        failEntry(where, entry, "is not a camera matrix (last row must be 0 0 1, lower part zero)");
+    }
+    const double cx = m.at<double>(0, 2), cy = m.at<double>(1, 2);
+    if (cx < 0 || cx > size.width || cy < 0 || cy > size.height) {
+        failEntry(where, entry, "principal point lies outside the image");
+    }
+}
+
+void checkDistortion(const cv::Mat& d, const std::string& where, const std::string& entry) {
+    if (d.empty()) {
+        failEntry(where, entry, "missing");
+    }
+    const int n = static_cast<int>(d.total());
+    if ((d.rows != 1 && d.cols != 1) || (n != 4 && n != 5 && n != 8 && n != 12 && n != 14)) {
+        failEntry(where, entry, "must be a vector of 4, 5, 8, 12 or 14 coefficients");
+    }
+    if (d.type() != CV_64FC1 || !cv::checkRange(d)) {
+        failEntry(where, entry, "must hold finite double-precision numbers");
+    }
+}
+
+cv::Mat readMat(const cv::FileStorage& fs, const std::string& where, const std::string& name) {
+    cv::FileNode node = fs[name];
+    if (node.empty()) {
+        return {};
+    }
+    if (!node.isMap() && !node.isSeq()) {
+        failEntry(where, name, "must be a matrix");
+    }
+    cv::Mat m;
+    try {
+        node >> m;
+    } catch (const cv::Exception&) {
+        failEntry(where, name, "is not a readable matrix");
+    }
+    if (m.empty()) {
+        failEntry(where, name, "is not a readable matrix");
+    }
+    if (m.depth() != CV_64F) {
+        m.convertTo(m, CV_64F);
+    }
+    return m;
+}
+
+int readInt(const cv::FileStorage& fs, const std::string& where, const std::string& name) {
+    cv::FileNode node = fs[name];
+    if (node.empty()) {
+        failEntry(where, name, "missing");
+    }
+    if (!node.isInt()) {
+        failEntry(where, name, "must be an integer");
+    }
+    return static_cast<int>(node);
+}
+
+}  // namespace
+
+double StereoCalibration::baselineMm() const {
+    return T.empty() ? 0.0 : cv::norm(T);
+}
+
+double StereoCalibration::rectifiedFocalPx() const {
+    return P1.empty() ? 0.0 : P1.at<double>(0, 0);
+}
+
+void deriveRectification(StereoCalibration& c) {
+    cv::stereoRectify(c.M1, c.D1, c.M2, c.D2, c.imageSize, c.R, c.T, c.R1, c.R2, c.P1, c.P2, c.Q,
+                      cv::CALIB_ZERO_DISPARITY, 0.0, c.imageSize);
+}
+
+StereoCalibration nominalCalibration(cv::Size eyeSize, double horizontalFovDeg, double baselineMm) {
+    if (eyeSize.width <= 0 || eyeSize.height <= 0 || horizontalFovDeg <= 0 || horizontalFovDeg >= 180 ||
+        baselineMm <= 0) {
+        throw InvalidInput("nominal calibration needs a positive eye size, a field of view in (0, 180) "
+                           "degrees and a positive baseline");
+    }
+    const double f = 0.5 * eyeSize.width / std::tan(0.5 * horizontalFovDeg * kPi / 180.0);
+    StereoCalibration c;
+    c.imageSize = eyeSize;
+    c.M1 = (cv::Mat_<double>(3, 3) << f, 0, (eyeSize.width - 1) / 2.0, 0, f, (eyeSize.height - 1) / 2.0, 0, 0, 1);
+    c.M2 = c.M1.clone();
+    c.D1 = cv::Mat::zeros(1, 5, CV_64F);
+    c.D2 = cv::Mat::zeros(1, 5, CV_64F);
+    c.R = cv::Mat::eye(3, 3, CV_64F);
+    // OpenCV's T maps left-camera points into the right camera: a right eye B to the right of the
+    // left one sees the world shifted by -B.
+    c.T = (cv::Mat_<double>(3, 1) << -baselineMm, 0, 0);
+    deriveRectification(c);
+    return c;
+}
+
+void validateCalibration(const StereoCalibration& c, const std::string& where) {
+    if (c.imageSize.width <= 0 || c.imageSize.height <= 0) {
+        failEntry(where, "image_width/image_height", "must be positive");
+    }
+    checkCameraMatrix(c.M1, where, "M1", c.imageSize);
+    checkCameraMatrix(c.M2, where, "M2", c.imageSize);
+    checkDistortion(c.D1, where, "D1");
+    checkDistortion(c.D2, where, "D2");
+    checkMatrix(c.R, where, "R", 3, 3);
+    const cv::Mat shouldBeIdentity = c.R * c.R.t();
+    if (cv::norm(shouldBeIdentity, cv::Mat::eye(3, 3, CV_64F), cv::NORM_INF) > 1e-6 || cv::determinant(c.R) < 0) {
+        failEntry(where, "R", "is not a rotation matrix");
+    }
+    checkMatrix(c.T, where, "T", 3, 1);
+    if (c.baselineMm() < 1e-6) {
+        failEntry(where, "T", "baseline is zero");
+    }
+    if (!c.R1.empty()) checkMatrix(c.R1, where, "R1", 3, 3);
+    if (!c.R2.empty()) checkMatrix(c.R2, where, "R2", 3, 3);
+    if (!c.P1.empty()) checkMatrix(c.P1, where, "P1", 3, 4);
+    if (!c.P2.empty()) checkMatrix(c.P2, where, "P2", 3, 4);
+    if (!c.Q.empty()) checkMatrix(c.Q, where, "Q", 4, 4);
+}
+
+StereoCalibration loadCalibration(const std::filesystem::path& path) {
+    const std::string where = path.string();
+    if (!std::filesystem::is_regular_file(path)) {
+        throw Error(kExitNoInput, where + ": calibration file not found");
+    }
+    cv::FileStorage fs;
+    try {
+        if (!fs.open(where, cv::FileStorage::READ)) {
+            throw Error(kExitDataErr, where + ": not a readable OpenCV calibration file");
+        }
+    } catch (const cv::Exception& e) {
+        throw Error(kExitDataErr, where + ": not a readable OpenCV calibration file (" + e.err + ")");
+    }
+    StereoCalibration c;
+    c.M1 = readMat(fs, where, "M1");
+    c.D1 = readMat(fs, where, "D1");
+    c.M2 = readMat(fs, where, "M2");
+    c.D2 = readMat(fs, where, "D2");
+    c.R = readMat(fs, where, "R");
+    c.T = readMat(fs, where, "T");
+    if (!c.T.empty() && c.T.rows == 1 && c.T.cols == 3) {
+        c.T = c.T.t();
+    }
+    c.imageSize.width = readInt(fs, where, "image_width");
+    c.imageSize.height = readInt(fs, where, "image_height");
+    c.R1 = readMat(fs, where, "R1");
+    c.R2 = readMat(fs, where, "R2");
+    c.P1 = readMat(fs, where, "P1");
+    c.P2 = readMat(fs, where, "P2");
+    c.Q = readMat(fs, where, "Q");
+    validateCalibration(c, where);
+    if (c.R1.empty() || c.R2.empty() || c.P1.empty() || c.P2.empty() || c.Q.empty()) {
+        deriveRectification(c);
+    }
+    return c;
+}
+
+void saveCalibration(const std::filesystem::path& path, const StereoCalibration& calibration) {
+    StereoCalibration c = calibration;
+    validateCalibration(c, path.string());
+    if (c.R1.empty() || c.P1.empty() || c.Q.empty()) {
+        deriveRectification(c);
+    }
+    cv::FileStorage fs;
+    try {
+        fs.open(path.string(), cv::FileStorage::WRITE);
+    } catch (const cv::Exception& e) {
+        throw Error(kExitCantCreate, path.string() + ": cannot write calibration (" + e.err + ")");
+    }
+    if (!fs.isOpened()) {
+        throw Error(kExitCantCreate, path.string() + ": cannot write calibration");
+    }
+    fs << "image_width" << c.imageSize.width << "image_height" << c.imageSize.height;
+    fs << "M1" << c.M1 << "D1" << c.D1 << "M2" << c.M2 << "D2" << c.D2;
+    fs << "R" << c.R << "T" << c.T;
+    fs << "R1" << c.R1 << "R2" << c.R2 << "P1" << c.P1 << "P2" << c.P2 << "Q" << c.Q;
+    fs.release();
+}
+
+Rectifier::Rectifier(const StereoCalibration& c) : imageSize_(c.imageSize) {
+    StereoCalibration derived = c;
+    if (derived.R1.empty() || derived.P1.empty()) {
+        deriveRectification(derived);
+    }
+    // Fixed-point maps (CV_16SC2 + interpolation table): half the memory and faster remaps.
+    cv::initUndistortRectifyMap(derived.M1, derived.D1, derived.R1, derived.P1, imageSize_, CV_16SC2, leftMap1_,
+                                leftMap2_);
+    cv::initUndistortRectifyMap(derived.M2, derived.D2, derived.R2, derived.P2, imageSize_, CV_16SC2, rightMap1_,
+                                rightMap2_);
+}
+
+StereoPair Rectifier::rectify(const StereoPair& pair) const {
+    auto sizeText = [](cv::Size s) { return std::to_string(s.width) + "x" + std::to_string(s.height); };
+    if (pair.left.size() != imageSize_ || pair.right.size() != imageSize_) {
+        throw InvalidInput("frame eye size " + sizeText(pair.left.size()) + " does not match the calibration's " +
+                           sizeText(imageSize_));
+    }
+    StereoPair out;
+    cv::remap(pair.left, out.left, leftMap1_, leftMap2_, cv::INTER_LINEAR, cv::BORDER_CONSTANT);
+    cv::remap(pair.right, out.right, rightMap1_, rightMap2_, cv::INTER_LINEAR, cv::BORDER_CONSTANT);
+    return out;
+}
+
+}  // namespace icewatch::calib

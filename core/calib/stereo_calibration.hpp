@@ -1,0 +1,60 @@
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+#include <opencv2/core.hpp>
+
+#include "core/common/side_by_side.hpp"
+
+namespace icewatch::calib {
+
+// A calibrated stereo pair in the names of OpenCV's stereo_calib sample. All matrices CV_64F.
+// M1/M2: 3×3 camera matrices; D1/D2: 1×N distortion (N = 4, 5, 8, 12 or 14); R: 3×3 rotation and
+// T: 3×1 translation of the right camera relative to the left, T in millimetres.
+// R1 R2 P1 P2 Q come from cv::stereoRectify (zero-disparity principal points, alpha 0).
+struct StereoCalibration {
+    cv::Mat M1, D1, M2, D2, R, T;
+    cv::Size imageSize;  // per eye
+    cv::Mat R1, R2, P1, P2, Q;
+
+    double baselineMm() const;        // |T|
+    double rectifiedFocalPx() const;  // P1(0,0): the f of Z = f·B/d after rectification
+};
+
+// Computes R1 R2 P1 P2 Q from M D R T and the image size (cv::stereoRectify).
+void deriveRectification(StereoCalibration& calibration);
+
+// An ideal HBVCAM: pinhole, no distortion, principal point at the centre, square pixels, the
+// right eye baselineMm to the right of the left one, f from the horizontal field of view.
+StereoCalibration nominalCalibration(cv::Size eyeSize, double horizontalFovDeg, double baselineMm);
+
+// Reads and validates a calibration file (OpenCV FileStorage YAML or XML). Every entry's shape and
+// values are checked (positive focal lengths, a rotation that is one, a non-zero baseline, a
+// positive image size); R1 R2 P1 P2 Q are derived when absent. Throws Error(kExitDataErr or
+// kExitNoInput) naming the file and the entry.
+StereoCalibration loadCalibration(const std::filesystem::path& path);
+
+// Writes all entries (deriving the rectification first if missing). Throws Error(kExitCantCreate).
+void saveCalibration(const std::filesystem::path& path, const StereoCalibration& calibration);
+
+// Checks a calibration held in memory the same way loadCalibration does; `where` names it in
+// messages. Throws Error(kExitDataErr).
+void validateCalibration(const StereoCalibration& calibration, const std::string& where);
+
+// Rectifies pairs for one calibration: the fixed-point maps are computed once in the constructor
+// and every pair costs two remaps.
+class Rectifier {
+public:
+    explicit Rectifier(const StereoCalibration& calibration);
+
+    // Throws InvalidInput when an eye's size differs from the calibration's.
+    StereoPair rectify(const StereoPair& pair) const;
+    cv::Size imageSize() const { return imageSize_; }
+
+private:
+    cv::Size imageSize_;
+    cv::Mat leftMap1_, leftMap2_, rightMap1_, rightMap2_;
+};
+
+}  // namespace icewatch::calib

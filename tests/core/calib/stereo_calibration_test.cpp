@@ -1,0 +1,95 @@
+#include "core/calib/stereo_calibration.hpp"
+
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "core/common/error.hpp"
+#include "tests/support/test_paths.hpp"
+
+namespace icewatch::calib {
+namespace {
+
+std::string loadError(const std::filesystem::path& path) {
+    try {
+        loadCalibration(path);
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "";
+}
+
+TEST(StereoCalibration, NominalHbvcamGeometry) {
+    const StereoCalibration c = nominalCalibration({1280, 720}, 80.0, 60.0);
+    // HBVCAM.md: f = 763 px at 1280 px per eye and 80° HFOV.
+    EXPECT_NEAR(c.M1.at<double>(0, 0), 762.8, 0.5);
+    EXPECT_NEAR(c.baselineMm(), 60.0, 1e-9);
+    EXPECT_NEAR(c.rectifiedFocalPx(), 762.8, 1.0);
+    // Z = f·B/d through Q: a point at 850 mm shows ~54 px of disparity.
+    const double d = c.rectifiedFocalPx() * 60.0 / 850.0;
+    EXPECT_NEAR(d, 53.8, 0.3);
+    cv::Mat point = (cv::Mat_<double>(4, 1) << 640, 360, d, 1);
+    cv::Mat xyzw = c.Q * point;
+    EXPECT_NEAR(xyzw.at<double>(2) / xyzw.at<double>(3), 850.0, 0.5);
+}
+
+TEST(StereoCalibration, SaveLoadRoundTrip) {
+    const auto dir = test::freshTempDir();
+    const StereoCalibration c = nominalCalibration({640, 480}, 72.0, 60.0);
+    saveCalibration(dir / "calibration.yaml", c);
+    const StereoCalibration back = loadCalibration(dir / "calibration.yaml");
+    EXPECT_EQ(back.imageSize, c.imageSize);
+    EXPECT_EQ(cv::norm(back.M1, c.M1, cv::NORM_INF), 0.0);
+    EXPECT_EQ(cv::norm(back.T, c.T, cv::NORM_INF), 0.0);
+    EXPECT_LT(cv::norm(back.Q, c.Q, cv::NORM_INF), 1e-9);
+}
+
+TEST(StereoCalibration, BadFilesNameTheEntry) {
+    const auto dir = test::freshTempDir();
+    EXPECT_EQ(loadError(dir / "absent.yaml"), (dir / "absent.yaml").string() + ": calibration file not found");
+
+    const StereoCalibration c = nominalCalibration({640, 480}, 72.0, 60.0);
+    saveCalibration(dir / "good.yaml", c);
+    std::ifstream in(dir / "good.yaml");
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+
+    auto writeVariant = [&](const std::string& name, const std::string& from, const std::string& to) {
+        std::string changed = text;
+        const auto at = changed.find(from);
+        EXPECT_NE(at, std::string::npos) << from;
+        changed.replace(at, from.size(), to);
+        std::ofstream(dir / name) << changed;
+        return dir / name;
+    };
+    // No M1 at all.
+    EXPECT_NE(loadError(writeVariant("nom1.yaml", "M1:", "X1:")).find(": M1: missing"), std::string::npos);
+    // T as a 2x1 matrix.
+    EXPECT_NE(loadError(writeVariant("shape.yaml", "T: !!opencv-matrix\n   rows: 3",
+                                     "T: !!opencv-matrix\n   rows: 2"))
+                  .find(": T: "),
+              std::string::npos);
+    // A non-numeric image width.
+    EXPECT_NE(loadError(writeVariant("width.yaml", "image_width: 640", "image_width: wide"))
+                  .find("image_width: must be an integer"),
+              std::string::npos);
+    // Not YAML at all.
+    std::ofstream(dir / "junk.yaml") << "\x01\x02 this is not a calibration";
+    EXPECT_FALSE(loadError(dir / "junk.yaml").empty());
+}
+
+TEST(Rectifier, IdentityForNominalPairAndSizeCheck) {
+    const StereoCalibration c = nominalCalibration({64, 48}, 80.0, 60.0);
+    Rectifier rectifier(c);
+    StereoPair pair{cv::Mat(48, 64, CV_8UC3), cv::Mat(48, 64, CV_8UC3)};
+    cv::randu(pair.left, 0, 255);
+    cv::randu(pair.right, 0, 255);
+    const StereoPair out = rectifier.rectify(pair);
+    // An ideal, already rectified pair maps onto itself.
+    EXPECT_EQ(cv::norm(out.left, pair.left, cv::NORM_INF), 0.0);
+    EXPECT_EQ(cv::norm(out.right, pair.right, cv::NORM_INF), 0.0);
+    StereoPair wrong{cv::Mat(48, 60, CV_8UC3), cv::Mat(48, 60, CV_8UC3)};
+    EXPECT_THROW(rectifier.rectify(wrong), InvalidInput);
+}
+
+}  // namespace
+}  // namespace icewatch::calib

@@ -1,0 +1,91 @@
+#include "core/config/config.hpp"
+
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "core/config/section.hpp"
+#include "tests/support/test_paths.hpp"
+
+namespace icewatch::config {
+namespace {
+
+std::string errorOf(const std::string& text) {
+    try {
+        parseConfig(text, "test.json");
+    } catch (const ConfigError& e) {
+        EXPECT_EQ(e.code(), kExitConfig);
+        return e.what();
+    }
+    return "";
+}
+
+TEST(Config, EmptyObjectGivesDefaults) {
+    const Config c = parseConfig("{}", "test.json");
+    EXPECT_EQ(c.camera.device, "/dev/video0");
+    EXPECT_EQ(c.camera.width, 2560);
+    EXPECT_EQ(c.log.level, "info");
+}
+
+TEST(Config, ShippedFileDocumentsTheDefaults) {
+    // config/icewatch.json documents every key with its default: loading it must give exactly the
+    // built-in defaults, or one of the two is lying.
+    const Config shipped = loadConfig(test::sourceDir() / "config" / "icewatch.json");
+    const Config defaults = parseConfig("{}", "defaults");
+    EXPECT_EQ(shipped.camera.device, defaults.camera.device);
+    EXPECT_EQ(shipped.camera.format, defaults.camera.format);
+    EXPECT_EQ(shipped.camera.width, defaults.camera.width);
+    EXPECT_EQ(shipped.camera.height, defaults.camera.height);
+    EXPECT_EQ(shipped.camera.fps, defaults.camera.fps);
+    EXPECT_EQ(shipped.camera.buffers, defaults.camera.buffers);
+    EXPECT_EQ(shipped.camera.frameTimeoutMs, defaults.camera.frameTimeoutMs);
+    EXPECT_EQ(shipped.camera.reconnectMinMs, defaults.camera.reconnectMinMs);
+    EXPECT_EQ(shipped.camera.reconnectMaxMs, defaults.camera.reconnectMaxMs);
+    EXPECT_EQ(shipped.log.level, defaults.log.level);
+}
+
+TEST(Config, ReadsValuesAndComments) {
+    const Config c = parseConfig(R"({
+        // a comment, as the shipped file has
+        "camera": {"device": "fake:/tmp/rec", "width": 1280, "height": 480, "controls": {"gain": 4}},
+        "log": {"level": "debug"}
+    })", "test.json");
+    EXPECT_EQ(c.camera.device, "fake:/tmp/rec");
+    EXPECT_EQ(c.camera.width, 1280);
+    EXPECT_EQ(c.camera.controls.at("gain"), 4);
+    EXPECT_EQ(c.log.level, "debug");
+}
+
+TEST(Config, UnknownKeyIsNamed) {
+    EXPECT_EQ(errorOf(R"({"camera": {"fsp": 30}})"), "test.json: camera.fsp: unknown key");
+    EXPECT_EQ(errorOf(R"({"cmaera": {}})"), "test.json: cmaera: unknown key");
+}
+
+TEST(Config, WrongTypeIsNamed) {
+    EXPECT_EQ(errorOf(R"({"camera": {"fps": "30"}})"), "test.json: camera.fps: must be an integer, got string");
+    EXPECT_EQ(errorOf(R"({"camera": {"controls": {"gain": 1.5}}})"),
+              "test.json: camera.controls.gain: must be an integer, got 1.5");
+    EXPECT_EQ(errorOf(R"({"camera": []})"), "test.json: camera: must be an object, got array");
+}
+
+TEST(Config, OutOfRangeIsNamed) {
+    EXPECT_EQ(errorOf(R"({"camera": {"fps": 500}})"), "test.json: camera.fps: must be between 1 and 240, got 500");
+    EXPECT_EQ(errorOf(R"({"camera": {"width": 1281}})"),
+              "test.json: camera.width: must be even: the frame holds two equal eyes side by side");
+    EXPECT_EQ(errorOf(R"({"log": {"level": "loud"}})"),
+              "test.json: log.level: must be one of debug, error, info, trace, warn, got \"loud\"");
+}
+
+TEST(Config, BrokenJsonAndMissingFile) {
+    EXPECT_NE(errorOf("{\"camera\": ").find("test.json: not valid JSON"), std::string::npos);
+    EXPECT_NE(errorOf("[1, 2]").find("top level must be a JSON object"), std::string::npos);
+    try {
+        loadConfig("/nonexistent/icewatch.json");
+        FAIL() << "a missing file must not load";
+    } catch (const ConfigError& e) {
+        EXPECT_STREQ(e.what(), "/nonexistent/icewatch.json: cannot read the configuration file");
+    }
+}
+
+}  // namespace
+}  // namespace icewatch::config

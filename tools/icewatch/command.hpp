@@ -1,0 +1,28 @@
+#pragma once
+
+#include <functional>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+namespace icewatch::cli {
+
+// Options every subcommand shares.
+struct GlobalOptions {
+    bool verbose = false;
+};
+
+// Each subcommand registers itself on the app and sets `run` to what it does; run returns the
+// process exit status (core/common/exit_codes.hpp). icewatch::Error thrown from run is printed
+// and turned into its exit code by main.
+using RunFunction = std::function<int()>;
+
+struct Registration {
+    CLI::App* command = nullptr;
+    RunFunction run;
+};
+
+// One function per subcommand file (tools/icewatch/cmd_*.cpp).
+void addConfigCommand(CLI::App& app, const GlobalOptions& global, RunFunction& run);
+
+}  // namespace icewatch::cli

@@ -1,0 +1,40 @@
+// icewatch: the command-line program, one binary with subcommands like git. Each subcommand lives
+// in its own cmd_*.cpp; this file only dispatches and turns errors into exit statuses.
+#include <cstdio>
+#include <exception>
+#include <iostream>
+
+#include <CLI/CLI.hpp>
+
+#include "core/common/error.hpp"
+#include "drivers/log/log.hpp"
+#include "tools/icewatch/command.hpp"
+
+int main(int argc, char** argv) {
+    using namespace icewatch;
+    CLI::App app{"icewatch: camera-based ice monitor for wind-turbine blades"};
+    app.require_subcommand(1);
+    app.set_version_flag("--version", std::string(ICEWATCH_VERSION));
+    cli::GlobalOptions global;
+    app.add_flag("-v,--verbose", global.verbose, "log debug messages to stderr");
+
+    cli::RunFunction run;
+    cli::addConfigCommand(app, global, run);
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        const int status = app.exit(e);
+        return status == 0 ? 0 : kExitUsage;
+    }
+    log::setup(global.verbose ? "debug" : "info");
+    try {
+        return run ? run() : kExitUsage;
+    } catch (const Error& e) {
+        std::cerr << "icewatch: " << e.what() << "\n";
+        return e.code();
+    } catch (const std::exception& e) {
+        std::cerr << "icewatch: internal error: " << e.what() << "\n";
+        return kExitSoftware;
+    }
+}
