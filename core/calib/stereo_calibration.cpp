@@ -2,6 +2,7 @@
 // its validation, the nominal HBVCAM model and rectification maps.
 #include "core/calib/stereo_calibration.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include <opencv2/calib3d.hpp>
@@ -14,6 +15,8 @@ namespace icewatch::calib {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+// Far above any sensor this product meets; a larger value is a corrupt file, not a camera.
+constexpr int kMaxEyeSidePx = 16384;
 
 [[noreturn]] void failEntry(const std::string& where, const std::string& entry, const std::string& what) {
     throw Error(kExitDataErr, where + ": " + entry + ": " + what);
@@ -48,6 +51,25 @@ void checkCameraMatrix(const cv::Mat& m, const std::string& where, const std::st
     const double cx = m.at<double>(0, 2), cy = m.at<double>(1, 2);
     if (cx < 0 || cx > size.width || cy < 0 || cy > size.height) {
         failEntry(where, entry, "principal point lies outside the image");
+    }
+}
+
+void checkRotation(const cv::Mat& r, const std::string& where, const std::string& entry) {
+    checkMatrix(r, where, entry, 3, 3);
+    const cv::Mat shouldBeIdentity = r * r.t();
+    if (cv::norm(shouldBeIdentity, cv::Mat::eye(3, 3, CV_64F), cv::NORM_INF) > 1e-6 || cv::determinant(r) < 0) {
+        failEntry(where, entry, "is not a rotation matrix");
+    }
+}
+
+// A rectified camera's 3x4 projection [f 0 cx tx; 0 f cy 0; 0 0 1 0].
+void checkProjection(const cv::Mat& p, const std::string& where, const std::string& entry) {
+    checkMatrix(p, where, entry, 3, 4);
+    if (p.at<double>(0, 0) <= 0 || p.at<double>(1, 1) <= 0) {
+        failEntry(where, entry, "focal lengths must be positive");
+    }
+    if (p.at<double>(2, 0) != 0 || p.at<double>(2, 1) != 0 || p.at<double>(2, 2) != 1 || p.at<double>(2, 3) != 0) {
+        failEntry(where, entry, "is not a projection matrix (last row must be 0 0 1 0)");
     }
 }
 
@@ -135,27 +157,30 @@ StereoCalibration nominalCalibration(cv::Size eyeSize, double horizontalFovDeg, 
 }
 
 void validateCalibration(const StereoCalibration& c, const std::string& where) {
-    if (c.imageSize.width <= 0 || c.imageSize.height <= 0) {
-        failEntry(where, "image_width/image_height", "must be positive");
+    if (c.imageSize.width <= 0 || c.imageSize.height <= 0 || c.imageSize.width > kMaxEyeSidePx ||
+        c.imageSize.height > kMaxEyeSidePx) {
+        failEntry(where, "image_width/image_height", "must be between 1 and " + std::to_string(kMaxEyeSidePx));
     }
     checkCameraMatrix(c.M1, where, "M1", c.imageSize);
     checkCameraMatrix(c.M2, where, "M2", c.imageSize);
     checkDistortion(c.D1, where, "D1");
     checkDistortion(c.D2, where, "D2");
-    checkMatrix(c.R, where, "R", 3, 3);
-    const cv::Mat shouldBeIdentity = c.R * c.R.t();
-    if (cv::norm(shouldBeIdentity, cv::Mat::eye(3, 3, CV_64F), cv::NORM_INF) > 1e-6 || cv::determinant(c.R) < 0) {
-        failEntry(where, "R", "is not a rotation matrix");
-    }
+    checkRotation(c.R, where, "R");
     checkMatrix(c.T, where, "T", 3, 1);
     if (c.baselineMm() < 1e-6) {
         failEntry(where, "T", "baseline is zero");
     }
-    if (!c.R1.empty()) checkMatrix(c.R1, where, "R1", 3, 3);
-    if (!c.R2.empty()) checkMatrix(c.R2, where, "R2", 3, 3);
-    if (!c.P1.empty()) checkMatrix(c.P1, where, "P1", 3, 4);
-    if (!c.P2.empty()) checkMatrix(c.P2, where, "P2", 3, 4);
-    if (!c.Q.empty()) checkMatrix(c.Q, where, "Q", 4, 4);
+    if (!c.R1.empty()) checkRotation(c.R1, where, "R1");
+    if (!c.R2.empty()) checkRotation(c.R2, where, "R2");
+    if (!c.P1.empty()) checkProjection(c.P1, where, "P1");
+    if (!c.P2.empty()) checkProjection(c.P2, where, "P2");
+    if (!c.Q.empty()) {
+        checkMatrix(c.Q, where, "Q", 4, 4);
+        // Q(3,2) is -1/Tx: zero would put every point at infinite depth.
+        if (c.Q.at<double>(3, 2) == 0) {
+            failEntry(where, "Q", "has no baseline term (Q[3][2] is zero)");
+        }
+    }
 }
 
 StereoCalibration loadCalibration(const std::filesystem::path& path) {
@@ -196,25 +221,50 @@ StereoCalibration loadCalibration(const std::filesystem::path& path) {
 }
 
 void saveCalibration(const std::filesystem::path& path, const StereoCalibration& calibration) {
+    saveCalibration(path, calibration, "");
+}
+
+void saveCalibration(const std::filesystem::path& path, const StereoCalibration& calibration,
+                     const std::string& comment) {
     StereoCalibration c = calibration;
     validateCalibration(c, path.string());
     if (c.R1.empty() || c.P1.empty() || c.Q.empty()) {
         deriveRectification(c);
     }
-    cv::FileStorage fs;
+    // Written beside the target and renamed over it, so a reader (the daemon at start-up) sees the
+    // old file or the new one, never half of one. The partial file keeps the extension because
+    // FileStorage picks YAML, XML or JSON from it.
+    const std::filesystem::path partial =
+        path.parent_path() / ("." + path.stem().string() + "-partial" + path.extension().string());
+    const std::string where = path.string();
     try {
-        fs.open(path.string(), cv::FileStorage::WRITE);
+        cv::FileStorage fs;
+        if (!fs.open(partial.string(), cv::FileStorage::WRITE)) {
+            throw Error(kExitCantCreate, where + ": cannot write calibration");
+        }
+        std::string::size_type start = 0;
+        while (start < comment.size()) {
+            const auto end = std::min(comment.find('\n', start), comment.size());
+            fs.writeComment(comment.substr(start, end - start));
+            start = end + 1;
+        }
+        fs << "image_width" << c.imageSize.width << "image_height" << c.imageSize.height;
+        fs << "M1" << c.M1 << "D1" << c.D1 << "M2" << c.M2 << "D2" << c.D2;
+        fs << "R" << c.R << "T" << c.T;
+        fs << "R1" << c.R1 << "R2" << c.R2 << "P1" << c.P1 << "P2" << c.P2 << "Q" << c.Q;
+        fs.release();
     } catch (const cv::Exception& e) {
-        throw Error(kExitCantCreate, path.string() + ": cannot write calibration (" + e.err + ")");
+        std::error_code ignored;
+        std::filesystem::remove(partial, ignored);
+        throw Error(kExitCantCreate, where + ": cannot write calibration (" + e.err + ")");
     }
-    if (!fs.isOpened()) {
-        throw Error(kExitCantCreate, path.string() + ": cannot write calibration");
+    std::error_code error;
+    std::filesystem::rename(partial, path, error);
+    if (error) {
+        std::error_code ignored;
+        std::filesystem::remove(partial, ignored);
+        throw Error(kExitCantCreate, where + ": cannot write calibration (" + error.message() + ")");
     }
-    fs << "image_width" << c.imageSize.width << "image_height" << c.imageSize.height;
-    fs << "M1" << c.M1 << "D1" << c.D1 << "M2" << c.M2 << "D2" << c.D2;
-    fs << "R" << c.R << "T" << c.T;
-    fs << "R1" << c.R1 << "R2" << c.R2 << "P1" << c.P1 << "P2" << c.P2 << "Q" << c.Q;
-    fs.release();
 }
 
 Rectifier::Rectifier(const StereoCalibration& c) : imageSize_(c.imageSize) {

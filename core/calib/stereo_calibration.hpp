@@ -37,6 +37,9 @@ StereoCalibration loadCalibration(const std::filesystem::path& path);
 
 // Writes all entries (deriving the rectification first if missing). Throws Error(kExitCantCreate).
 void saveCalibration(const std::filesystem::path& path, const StereoCalibration& calibration);
+// The same with a comment at the top of the file (how it was made: the command, the figures).
+void saveCalibration(const std::filesystem::path& path, const StereoCalibration& calibration,
+                     const std::string& comment);
 
 // Checks a calibration held in memory the same way loadCalibration does; `where` names it in
 // messages. Throws Error(kExitDataErr).
