@@ -17,6 +17,8 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 // Far above any sensor this product meets; a larger value is a corrupt file, not a camera.
 constexpr int kMaxEyeSidePx = 16384;
+// The largest matrix a calibration holds is 4x4 (Q) or 1x14 (D); anything much bigger is corruption.
+constexpr int kMaxMatrixSide = 16;
 
 [[noreturn]] void failEntry(const std::string& where, const std::string& entry, const std::string& what) {
     throw Error(kExitDataErr, where + ": " + entry + ": " + what);
@@ -86,22 +88,49 @@ void checkDistortion(const cv::Mat& d, const std::string& where, const std::stri
     }
 }
 
+// An !!opencv-matrix is checked field by field before OpenCV parses it, so a hand-edited file gets
+// a message that says what is wrong rather than OpenCV's parser error or a silently short matrix.
 cv::Mat readMat(const cv::FileStorage& fs, const std::string& where, const std::string& name) {
-    cv::FileNode node = fs[name];
+    const cv::FileNode node = fs[name];
     if (node.empty()) {
         return {};
     }
-    if (!node.isMap() && !node.isSeq()) {
-        failEntry(where, name, "must be a matrix");
+    if (!node.isMap()) {
+        failEntry(where, name, "must be an OpenCV matrix (!!opencv-matrix with rows, cols, dt and data)");
+    }
+    const cv::FileNode rowsNode = node["rows"], colsNode = node["cols"], dtNode = node["dt"], data = node["data"];
+    if (!rowsNode.isInt() || !colsNode.isInt()) {
+        failEntry(where, name, "rows and cols must be integers");
+    }
+    const int rows = static_cast<int>(rowsNode), cols = static_cast<int>(colsNode);
+    if (rows < 1 || cols < 1 || rows > kMaxMatrixSide || cols > kMaxMatrixSide) {
+        failEntry(where, name, "rows and cols must be between 1 and " + std::to_string(kMaxMatrixSide));
+    }
+    if (!dtNode.isString()) {
+        failEntry(where, name, "dt must name the element type (d for double)");
+    }
+    if (!data.isSeq()) {
+        failEntry(where, name, "data must be a list of numbers");
+    }
+    const size_t expected = static_cast<size_t>(rows) * static_cast<size_t>(cols);
+    if (data.size() != expected) {
+        failEntry(where, name, "data holds " + std::to_string(data.size()) + " numbers, " + std::to_string(rows) +
+                                   "x" + std::to_string(cols) + " needs " + std::to_string(expected));
+    }
+    for (size_t i = 0; i < data.size(); ++i) {
+        const cv::FileNode item = data[static_cast<int>(i)];
+        if (!item.isReal() && !item.isInt()) {
+            failEntry(where, name, "data[" + std::to_string(i) + "] is not a number");
+        }
     }
     cv::Mat m;
     try {
         node >> m;
-    } catch (const cv::Exception&) {
-        failEntry(where, name, "is not a readable matrix");
+    } catch (const cv::Exception& e) {
+        failEntry(where, name, "is not a readable matrix (" + e.err + ")");
     }
-    if (m.empty()) {
-        failEntry(where, name, "is not a readable matrix");
+    if (m.empty() || m.channels() != 1 || m.total() != expected) {
+        failEntry(where, name, "must be a single-channel matrix of numbers (dt: d)");
     }
     if (m.depth() != CV_64F) {
         m.convertTo(m, CV_64F);
