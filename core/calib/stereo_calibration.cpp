@@ -20,6 +20,8 @@ constexpr int kMaxEyeSidePx = 16384;
 // The largest matrix a calibration holds is 4x4 (Q) or 1x14 (D); anything much bigger is corruption.
 constexpr int kMaxMatrixSide = 16;
 
+std::string sizeText(cv::Size s) { return std::to_string(s.width) + "x" + std::to_string(s.height); }
+
 [[noreturn]] void failEntry(const std::string& where, const std::string& entry, const std::string& what) {
     throw Error(kExitDataErr, where + ": " + entry + ": " + what);
 }
@@ -296,6 +298,15 @@ void saveCalibration(const std::filesystem::path& path, const StereoCalibration&
     }
 }
 
+void checkFrameSize(const StereoCalibration& calibration, cv::Size frameSize, const std::string& calibrationName) {
+    const cv::Size eye = calibration.imageSize;
+    const cv::Size expected(2 * eye.width, eye.height);
+    if (frameSize != expected) {
+        throw InvalidInput("frame is " + sizeText(frameSize) + ", but " + calibrationName + " is for eyes of " +
+                           sizeText(eye) + " (a " + sizeText(expected) + " side-by-side frame)");
+    }
+}
+
 Rectifier::Rectifier(const StereoCalibration& c) : imageSize_(c.imageSize) {
     StereoCalibration derived = c;
     if (derived.R1.empty() || derived.P1.empty()) {
@@ -309,7 +320,6 @@ Rectifier::Rectifier(const StereoCalibration& c) : imageSize_(c.imageSize) {
 }
 
 StereoPair Rectifier::rectify(const StereoPair& pair) const {
-    auto sizeText = [](cv::Size s) { return std::to_string(s.width) + "x" + std::to_string(s.height); };
     if (pair.left.size() != imageSize_ || pair.right.size() != imageSize_) {
         throw InvalidInput("frame eye size " + sizeText(pair.left.size()) + " does not match the calibration's " +
                            sizeText(imageSize_));

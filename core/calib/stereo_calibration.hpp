@@ -45,6 +45,10 @@ void saveCalibration(const std::filesystem::path& path, const StereoCalibration&
 // messages. Throws Error(kExitDataErr).
 void validateCalibration(const StereoCalibration& calibration, const std::string& where);
 
+// Throws InvalidInput when a side-by-side frame of frameSize does not hold two eyes of the
+// calibration's imageSize; the message names both sizes and calibrationName (the file).
+void checkFrameSize(const StereoCalibration& calibration, cv::Size frameSize, const std::string& calibrationName);
+
 // Rectifies pairs for one calibration: the fixed-point maps are computed once in the constructor
 // and every pair costs two remaps.
 class Rectifier {

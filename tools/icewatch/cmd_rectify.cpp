@@ -28,8 +28,6 @@ struct RectifyOptions {
     bool json = false;
 };
 
-std::string sizeText(cv::Size s) { return std::to_string(s.width) + "x" + std::to_string(s.height); }
-
 void writeImage(const fs::path& path, const cv::Mat& image) {
     bool written = false;
     try {
@@ -55,13 +53,12 @@ cv::Mat withEpipolarLines(const cv::Mat& sideBySide) {
 int runRectify(const RectifyOptions& o) {
     const calib::StereoCalibration calibration = calib::loadCalibration(o.calibration);
     const cv::Mat frame = readImage(o.frame);
-    const cv::Size eye = calibration.imageSize;
-    const cv::Size expected(2 * eye.width, eye.height);
-    if (frame.size() != expected) {
-        throw Error(kExitDataErr, o.frame + ": frame is " + sizeText(frame.size()) + ", but " + o.calibration +
-                                      " is for eyes of " + sizeText(eye) + " (a " + sizeText(expected) +
-                                      " side-by-side frame)");
+    try {
+        calib::checkFrameSize(calibration, frame.size(), o.calibration);
+    } catch (const Error& e) {
+        throw Error(e.code(), o.frame + ": " + e.what());
     }
+    const cv::Size eye = calibration.imageSize;
     const calib::Rectifier rectifier(calibration);
     const StereoPair rectified = rectifier.rectify(splitSideBySide(frame));
 

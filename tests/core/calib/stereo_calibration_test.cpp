@@ -141,6 +141,13 @@ TEST(Rectifier, IdentityForNominalPairAndSizeCheck) {
     EXPECT_EQ(cv::norm(out.right, pair.right, cv::NORM_INF), 0.0);
     StereoPair wrong{cv::Mat(48, 60, CV_8UC3), cv::Mat(48, 60, CV_8UC3)};
     EXPECT_THROW(rectifier.rectify(wrong), InvalidInput);
+    EXPECT_NO_THROW(checkFrameSize(c, {128, 48}, "c.yaml"));
+    try {
+        checkFrameSize(c, {120, 48}, "c.yaml");
+        FAIL() << "a frame of the wrong size must be refused";
+    } catch (const InvalidInput& e) {
+        EXPECT_STREQ(e.what(), "frame is 120x48, but c.yaml is for eyes of 64x48 (a 128x48 side-by-side frame)");
+    }
 }
 
 }  // namespace
