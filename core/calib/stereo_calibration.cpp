@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
@@ -268,6 +269,10 @@ void saveCalibration(const std::filesystem::path& path, const StereoCalibration&
     const std::filesystem::path partial =
         path.parent_path() / ("." + path.stem().string() + "-partial" + path.extension().string());
     const std::string where = path.string();
+    if (!std::ofstream(partial)) {
+        // Checked before FileStorage tries, which would also print its own error line.
+        throw Error(kExitCantCreate, where + ": cannot write calibration (cannot create " + partial.string() + ")");
+    }
     try {
         cv::FileStorage fs;
         if (!fs.open(partial.string(), cv::FileStorage::WRITE)) {
