@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
@@ -193,19 +194,27 @@ ChessboardCalibrationResult ChessboardCalibrator::calibrate() const {
 
     StereoCalibration c;
     c.imageSize = imageSize_;
-    std::vector<cv::Mat> rvecs, tvecs;
-    cv::calibrateCamera(objectPoints, leftCorners_, imageSize_, c.M1, c.D1, rvecs, tvecs, kDistortionFlags, criteria);
-    cv::calibrateCamera(objectPoints, rightCorners_, imageSize_, c.M2, c.D2, rvecs, tvecs, kDistortionFlags, criteria);
-
     ChessboardCalibrationResult result;
-    cv::Mat essential, fundamental, perViewErrors;
-    result.rmsPx = cv::stereoCalibrate(objectPoints, leftCorners_, rightCorners_, c.M1, c.D1, c.M2, c.D2, imageSize_,
-                                       c.R, c.T, essential, fundamental, perViewErrors,
-                                       cv::CALIB_USE_INTRINSIC_GUESS | kDistortionFlags, criteria);
-    c.D1 = c.D1.reshape(1, 1);
-    c.D2 = c.D2.reshape(1, 1);
-    c.T = c.T.reshape(1, 3);
-    deriveRectification(c);
+    cv::Mat perViewErrors;
+    try {
+        std::vector<cv::Mat> rvecs, tvecs;
+        cv::calibrateCamera(objectPoints, leftCorners_, imageSize_, c.M1, c.D1, rvecs, tvecs, kDistortionFlags,
+                            criteria);
+        cv::calibrateCamera(objectPoints, rightCorners_, imageSize_, c.M2, c.D2, rvecs, tvecs, kDistortionFlags,
+                            criteria);
+        cv::Mat essential, fundamental;
+        result.rmsPx = cv::stereoCalibrate(objectPoints, leftCorners_, rightCorners_, c.M1, c.D1, c.M2, c.D2,
+                                           imageSize_, c.R, c.T, essential, fundamental, perViewErrors,
+                                           cv::CALIB_USE_INTRINSIC_GUESS | kDistortionFlags, criteria);
+        c.D1 = c.D1.reshape(1, 1);
+        c.D2 = c.D2.reshape(1, 1);
+        c.T = c.T.reshape(1, 3);
+        deriveRectification(c);
+    } catch (const cv::Exception& e) {
+        // Degenerate views (all alike, all fronto-parallel) make the solvers give up.
+        throw InvalidInput("chessboard calibration failed on these views (" + e.err +
+                           "): show the board at more varied positions and tilts");
+    }
     validateCalibration(c, "chessboard calibration");
 
     const EpipolarError epipolar = epipolarError(c, leftCorners_, rightCorners_);

@@ -187,6 +187,37 @@ TEST(ChessboardCalibration, SyntheticRoundTripRecoversFocalAndBaseline) {
               << ", epipolar_px " << r.epipolarPx << "\n";
 }
 
+// Large frames are searched at a reduced scale and refined at full resolution: the corners must
+// land where they do at full scale.
+TEST(ChessboardCalibration, LargeImagesFindTheSameCorners) {
+    const cv::Mat small = cv::imread(
+        (test::sharedData() / "calibration" / "opencv-chessboard-9x6" / "left01.jpg").string(), cv::IMREAD_GRAYSCALE);
+    ASSERT_FALSE(small.empty());
+    constexpr double kScale = 3.0;
+    cv::Mat large;
+    cv::resize(small, large, cv::Size(), kScale, kScale, cv::INTER_CUBIC);
+    const auto reference = findChessboardCornersSubPix(small, {9, 6});
+    const auto found = findChessboardCornersSubPix(large, {9, 6});
+    ASSERT_EQ(reference.size(), 54u);
+    ASSERT_EQ(found.size(), 54u);
+    double worst = 0, sum = 0;
+    cv::Point2d bias(0, 0);
+    for (size_t i = 0; i < found.size(); ++i) {
+        // Pixel centres at integers in both: x_large = (x_small + 0.5) * k - 0.5.
+        const cv::Point2f expected((reference[i].x + 0.5f) * kScale - 0.5f, (reference[i].y + 0.5f) * kScale - 0.5f);
+        const cv::Point2d difference = cv::Point2d(found[i] - expected) / kScale;
+        worst = std::max(worst, cv::norm(difference));
+        sum += cv::norm(difference);
+        bias += difference / static_cast<double>(found.size());
+    }
+    // In pixels of the small image. The two refinements use different windows on differently
+    // sampled images, so single corners differ by ~0.1 px; a wrong mapping back from the reduced
+    // scale would shift them all alike.
+    EXPECT_LT(cv::norm(bias), 0.05);
+    EXPECT_LT(sum / found.size(), 0.15);
+    EXPECT_LT(worst, 0.3);
+}
+
 TEST(ChessboardCalibration, TooFewViewsNamesTheSkippedOnes) {
     ChessboardCalibrator calibrator({{9, 6}, 25.0});
     const cv::Mat grey(120, 160, CV_8UC1, cv::Scalar(128));
