@@ -110,6 +110,11 @@ TEST(CalibrateCli, BadInvocationsExitWithTheirReason) {
     EXPECT_EQ(square.status, kExitUsage);
     EXPECT_NE(square.err.find("--square-mm"), std::string::npos) << square.err;
 
+    auto noDir = test::runProgram({icewatchBin(), "calibrate", "--pairs", openCvSet().string(), "--square-mm", "1",
+                                   "--out", (dir / "absent" / "c.yaml").string()});
+    EXPECT_EQ(noDir.status, kExitCantCreate);
+    EXPECT_NE(noDir.err.find("no directory"), std::string::npos) << noDir.err;
+
     // Frames without any chessboard: nothing to calibrate from, and every frame is named.
     fs::create_directories(dir / "empty");
     cv::imwrite((dir / "empty" / "000001.png").string(), cv::Mat(60, 160, CV_8UC3, cv::Scalar(50, 60, 70)));

@@ -3,6 +3,7 @@
 // with --nominal, writes the ideal HBVCAM model for a camera mode instead (the files in
 // config/calibration/ are made this way).
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <sstream>
@@ -89,6 +90,11 @@ int runChessboard(const CalibrateOptions& o) {
     }
     if (!(o.squareMm > 0)) {
         throw Error(kExitUsage, "--square-mm: the side of one chessboard square in millimetres must be positive");
+    }
+    // Found out before minutes of corner search, not after.
+    const std::filesystem::path outDir = std::filesystem::path(o.out).parent_path();
+    if (!outDir.empty() && !std::filesystem::is_directory(outDir)) {
+        throw Error(kExitCantCreate, o.out + ": cannot write calibration (no directory " + outDir.string() + ")");
     }
     const auto logger = log::get("calib");
     calib::ChessboardCalibrator calibrator({parseSize(o.board, "--board"), o.squareMm});
