@@ -93,6 +93,43 @@ TEST(CalibrateCli, RecordingDirectorySkipsAndNamesPairsWithoutTheBoard) {
     EXPECT_NE(r.err.find("000007.jpg"), std::string::npos) << "the skipped frame is logged too";
 }
 
+// A raw YUYV recording: frames as the camera sent them, the size from recording.json.
+TEST(CalibrateCli, RawYuyvRecording) {
+    const auto dir = test::freshTempDir();
+    const fs::path recording = dir / "recording";
+    fs::create_directories(recording);
+    int index = 0;
+    for (const char* nn : {"01", "03", "06", "09", "12"}) {
+        cv::Mat grey;
+        cv::cvtColor(sideBySideFromSet(nn), grey, cv::COLOR_BGR2GRAY);
+        // Y from the grey image, neutral chroma: Y0 U Y1 V per pixel pair.
+        std::vector<unsigned char> yuyv;
+        for (int y = 0; y < grey.rows; ++y) {
+            for (int x = 0; x < grey.cols; ++x) {
+                yuyv.push_back(grey.at<unsigned char>(y, x));
+                yuyv.push_back(128);
+            }
+        }
+        char name[16];
+        std::snprintf(name, sizeof name, "%06d.yuyv", ++index);
+        std::ofstream(recording / name, std::ios::binary)
+            .write(reinterpret_cast<const char*>(yuyv.data()), static_cast<std::streamsize>(yuyv.size()));
+    }
+    std::ofstream(recording / "recording.json")
+        << R"({"device": "fake", "pixel_format": "yuyv", "width": 1280, "height": 480, "fps": 30, "frames": []})";
+    auto r = test::runProgram({icewatchBin(), "calibrate", "--pairs", recording.string(), "--square-mm", "25",
+                               "--out", (dir / "calibration.yaml").string(), "--json"});
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ(parseJson(r).at("pairs_used").get<int>(), 5);
+
+    // A frame cut short is named, not half-used.
+    fs::resize_file(recording / "000003.yuyv", 1000);
+    auto cut = test::runProgram({icewatchBin(), "calibrate", "--pairs", recording.string(), "--square-mm", "25",
+                                 "--out", (dir / "calibration.yaml").string()});
+    EXPECT_EQ(cut.status, kExitDataErr);
+    EXPECT_NE(cut.err.find("000003.yuyv: 1000 bytes, a 1280x480 YUYV frame has 1228800"), std::string::npos) << cut.err;
+}
+
 TEST(CalibrateCli, BadInvocationsExitWithTheirReason) {
     const auto dir = test::freshTempDir();
     const std::string out = (dir / "c.yaml").string();
