@@ -2,7 +2,9 @@
 // its validation, the nominal HBVCAM model and rectification maps.
 #include "core/calib/stereo_calibration.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <fstream>
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
@@ -14,6 +16,12 @@ namespace icewatch::calib {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+// Far above any sensor this product meets; a larger value is a corrupt file, not a camera.
+constexpr int kMaxEyeSidePx = 16384;
+// The largest matrix a calibration holds is 4x4 (Q) or 1x14 (D); anything much bigger is corruption.
+constexpr int kMaxMatrixSide = 16;
+
+std::string sizeText(cv::Size s) { return std::to_string(s.width) + "x" + std::to_string(s.height); }
 
 [[noreturn]] void failEntry(const std::string& where, const std::string& entry, const std::string& what) {
     throw Error(kExitDataErr, where + ": " + entry + ": " + what);
@@ -51,6 +59,25 @@ void checkCameraMatrix(const cv::Mat& m, const std::string& where, const std::st
     }
 }
 
+void checkRotation(const cv::Mat& r, const std::string& where, const std::string& entry) {
+    checkMatrix(r, where, entry, 3, 3);
+    const cv::Mat shouldBeIdentity = r * r.t();
+    if (cv::norm(shouldBeIdentity, cv::Mat::eye(3, 3, CV_64F), cv::NORM_INF) > 1e-6 || cv::determinant(r) < 0) {
+        failEntry(where, entry, "is not a rotation matrix");
+    }
+}
+
+// A rectified camera's 3x4 projection [f 0 cx tx; 0 f cy 0; 0 0 1 0].
+void checkProjection(const cv::Mat& p, const std::string& where, const std::string& entry) {
+    checkMatrix(p, where, entry, 3, 4);
+    if (p.at<double>(0, 0) <= 0 || p.at<double>(1, 1) <= 0) {
+        failEntry(where, entry, "focal lengths must be positive");
+    }
+    if (p.at<double>(2, 0) != 0 || p.at<double>(2, 1) != 0 || p.at<double>(2, 2) != 1 || p.at<double>(2, 3) != 0) {
+        failEntry(where, entry, "is not a projection matrix (last row must be 0 0 1 0)");
+    }
+}
+
 void checkDistortion(const cv::Mat& d, const std::string& where, const std::string& entry) {
     if (d.empty()) {
         failEntry(where, entry, "missing");
@@ -64,22 +91,49 @@ void checkDistortion(const cv::Mat& d, const std::string& where, const std::stri
     }
 }
 
+// An !!opencv-matrix is checked field by field before OpenCV parses it, so a hand-edited file gets
+// a message that says what is wrong rather than OpenCV's parser error or a silently short matrix.
 cv::Mat readMat(const cv::FileStorage& fs, const std::string& where, const std::string& name) {
-    cv::FileNode node = fs[name];
+    const cv::FileNode node = fs[name];
     if (node.empty()) {
         return {};
     }
-    if (!node.isMap() && !node.isSeq()) {
-        failEntry(where, name, "must be a matrix");
+    if (!node.isMap()) {
+        failEntry(where, name, "must be an OpenCV matrix (!!opencv-matrix with rows, cols, dt and data)");
+    }
+    const cv::FileNode rowsNode = node["rows"], colsNode = node["cols"], dtNode = node["dt"], data = node["data"];
+    if (!rowsNode.isInt() || !colsNode.isInt()) {
+        failEntry(where, name, "rows and cols must be integers");
+    }
+    const int rows = static_cast<int>(rowsNode), cols = static_cast<int>(colsNode);
+    if (rows < 1 || cols < 1 || rows > kMaxMatrixSide || cols > kMaxMatrixSide) {
+        failEntry(where, name, "rows and cols must be between 1 and " + std::to_string(kMaxMatrixSide));
+    }
+    if (!dtNode.isString()) {
+        failEntry(where, name, "dt must name the element type (d for double)");
+    }
+    if (!data.isSeq()) {
+        failEntry(where, name, "data must be a list of numbers");
+    }
+    const size_t expected = static_cast<size_t>(rows) * static_cast<size_t>(cols);
+    if (data.size() != expected) {
+        failEntry(where, name, "data holds " + std::to_string(data.size()) + " numbers, " + std::to_string(rows) +
+                                   "x" + std::to_string(cols) + " needs " + std::to_string(expected));
+    }
+    for (size_t i = 0; i < data.size(); ++i) {
+        const cv::FileNode item = data[static_cast<int>(i)];
+        if (!item.isReal() && !item.isInt()) {
+            failEntry(where, name, "data[" + std::to_string(i) + "] is not a number");
+        }
     }
     cv::Mat m;
     try {
         node >> m;
-    } catch (const cv::Exception&) {
-        failEntry(where, name, "is not a readable matrix");
+    } catch (const cv::Exception& e) {
+        failEntry(where, name, "is not a readable matrix (" + e.err + ")");
     }
-    if (m.empty()) {
-        failEntry(where, name, "is not a readable matrix");
+    if (m.empty() || m.channels() != 1 || m.total() != expected) {
+        failEntry(where, name, "must be a single-channel matrix of numbers (dt: d)");
     }
     if (m.depth() != CV_64F) {
         m.convertTo(m, CV_64F);
@@ -135,27 +189,30 @@ StereoCalibration nominalCalibration(cv::Size eyeSize, double horizontalFovDeg, 
 }
 
 void validateCalibration(const StereoCalibration& c, const std::string& where) {
-    if (c.imageSize.width <= 0 || c.imageSize.height <= 0) {
-        failEntry(where, "image_width/image_height", "must be positive");
+    if (c.imageSize.width <= 0 || c.imageSize.height <= 0 || c.imageSize.width > kMaxEyeSidePx ||
+        c.imageSize.height > kMaxEyeSidePx) {
+        failEntry(where, "image_width/image_height", "must be between 1 and " + std::to_string(kMaxEyeSidePx));
     }
     checkCameraMatrix(c.M1, where, "M1", c.imageSize);
     checkCameraMatrix(c.M2, where, "M2", c.imageSize);
     checkDistortion(c.D1, where, "D1");
     checkDistortion(c.D2, where, "D2");
-    checkMatrix(c.R, where, "R", 3, 3);
-    const cv::Mat shouldBeIdentity = c.R * c.R.t();
-    if (cv::norm(shouldBeIdentity, cv::Mat::eye(3, 3, CV_64F), cv::NORM_INF) > 1e-6 || cv::determinant(c.R) < 0) {
-        failEntry(where, "R", "is not a rotation matrix");
-    }
+    checkRotation(c.R, where, "R");
     checkMatrix(c.T, where, "T", 3, 1);
     if (c.baselineMm() < 1e-6) {
         failEntry(where, "T", "baseline is zero");
     }
-    if (!c.R1.empty()) checkMatrix(c.R1, where, "R1", 3, 3);
-    if (!c.R2.empty()) checkMatrix(c.R2, where, "R2", 3, 3);
-    if (!c.P1.empty()) checkMatrix(c.P1, where, "P1", 3, 4);
-    if (!c.P2.empty()) checkMatrix(c.P2, where, "P2", 3, 4);
-    if (!c.Q.empty()) checkMatrix(c.Q, where, "Q", 4, 4);
+    if (!c.R1.empty()) checkRotation(c.R1, where, "R1");
+    if (!c.R2.empty()) checkRotation(c.R2, where, "R2");
+    if (!c.P1.empty()) checkProjection(c.P1, where, "P1");
+    if (!c.P2.empty()) checkProjection(c.P2, where, "P2");
+    if (!c.Q.empty()) {
+        checkMatrix(c.Q, where, "Q", 4, 4);
+        // Q(3,2) is -1/Tx: zero would put every point at infinite depth.
+        if (c.Q.at<double>(3, 2) == 0) {
+            failEntry(where, "Q", "has no baseline term (Q[3][2] is zero)");
+        }
+    }
 }
 
 StereoCalibration loadCalibration(const std::filesystem::path& path) {
@@ -196,25 +253,63 @@ StereoCalibration loadCalibration(const std::filesystem::path& path) {
 }
 
 void saveCalibration(const std::filesystem::path& path, const StereoCalibration& calibration) {
+    saveCalibration(path, calibration, "");
+}
+
+void saveCalibration(const std::filesystem::path& path, const StereoCalibration& calibration,
+                     const std::string& comment) {
     StereoCalibration c = calibration;
     validateCalibration(c, path.string());
     if (c.R1.empty() || c.P1.empty() || c.Q.empty()) {
         deriveRectification(c);
     }
-    cv::FileStorage fs;
+    // Written beside the target and renamed over it, so a reader (the daemon at start-up) sees the
+    // old file or the new one, never half of one. The partial file keeps the extension because
+    // FileStorage picks YAML, XML or JSON from it.
+    const std::filesystem::path partial =
+        path.parent_path() / ("." + path.stem().string() + "-partial" + path.extension().string());
+    const std::string where = path.string();
+    if (!std::ofstream(partial)) {
+        // Checked before FileStorage tries, which would also print its own error line.
+        throw Error(kExitCantCreate, where + ": cannot write calibration (cannot create " + partial.string() + ")");
+    }
     try {
-        fs.open(path.string(), cv::FileStorage::WRITE);
+        cv::FileStorage fs;
+        if (!fs.open(partial.string(), cv::FileStorage::WRITE)) {
+            throw Error(kExitCantCreate, where + ": cannot write calibration");
+        }
+        std::string::size_type start = 0;
+        while (start < comment.size()) {
+            const auto end = std::min(comment.find('\n', start), comment.size());
+            fs.writeComment(comment.substr(start, end - start));
+            start = end + 1;
+        }
+        fs << "image_width" << c.imageSize.width << "image_height" << c.imageSize.height;
+        fs << "M1" << c.M1 << "D1" << c.D1 << "M2" << c.M2 << "D2" << c.D2;
+        fs << "R" << c.R << "T" << c.T;
+        fs << "R1" << c.R1 << "R2" << c.R2 << "P1" << c.P1 << "P2" << c.P2 << "Q" << c.Q;
+        fs.release();
     } catch (const cv::Exception& e) {
-        throw Error(kExitCantCreate, path.string() + ": cannot write calibration (" + e.err + ")");
+        std::error_code ignored;
+        std::filesystem::remove(partial, ignored);
+        throw Error(kExitCantCreate, where + ": cannot write calibration (" + e.err + ")");
     }
-    if (!fs.isOpened()) {
-        throw Error(kExitCantCreate, path.string() + ": cannot write calibration");
+    std::error_code error;
+    std::filesystem::rename(partial, path, error);
+    if (error) {
+        std::error_code ignored;
+        std::filesystem::remove(partial, ignored);
+        throw Error(kExitCantCreate, where + ": cannot write calibration (" + error.message() + ")");
     }
-    fs << "image_width" << c.imageSize.width << "image_height" << c.imageSize.height;
-    fs << "M1" << c.M1 << "D1" << c.D1 << "M2" << c.M2 << "D2" << c.D2;
-    fs << "R" << c.R << "T" << c.T;
-    fs << "R1" << c.R1 << "R2" << c.R2 << "P1" << c.P1 << "P2" << c.P2 << "Q" << c.Q;
-    fs.release();
+}
+
+void checkFrameSize(const StereoCalibration& calibration, cv::Size frameSize, const std::string& calibrationName) {
+    const cv::Size eye = calibration.imageSize;
+    const cv::Size expected(2 * eye.width, eye.height);
+    if (frameSize != expected) {
+        throw InvalidInput("frame is " + sizeText(frameSize) + ", but " + calibrationName + " is for eyes of " +
+                           sizeText(eye) + " (a " + sizeText(expected) + " side-by-side frame)");
+    }
 }
 
 Rectifier::Rectifier(const StereoCalibration& c) : imageSize_(c.imageSize) {
@@ -230,7 +325,6 @@ Rectifier::Rectifier(const StereoCalibration& c) : imageSize_(c.imageSize) {
 }
 
 StereoPair Rectifier::rectify(const StereoPair& pair) const {
-    auto sizeText = [](cv::Size s) { return std::to_string(s.width) + "x" + std::to_string(s.height); };
     if (pair.left.size() != imageSize_ || pair.right.size() != imageSize_) {
         throw InvalidInput("frame eye size " + sizeText(pair.left.size()) + " does not match the calibration's " +
                            sizeText(imageSize_));

@@ -37,10 +37,17 @@ StereoCalibration loadCalibration(const std::filesystem::path& path);
 
 // Writes all entries (deriving the rectification first if missing). Throws Error(kExitCantCreate).
 void saveCalibration(const std::filesystem::path& path, const StereoCalibration& calibration);
+// The same with a comment at the top of the file (how it was made: the command, the figures).
+void saveCalibration(const std::filesystem::path& path, const StereoCalibration& calibration,
+                     const std::string& comment);
 
 // Checks a calibration held in memory the same way loadCalibration does; `where` names it in
 // messages. Throws Error(kExitDataErr).
 void validateCalibration(const StereoCalibration& calibration, const std::string& where);
+
+// Throws InvalidInput when a side-by-side frame of frameSize does not hold two eyes of the
+// calibration's imageSize; the message names both sizes and calibrationName (the file).
+void checkFrameSize(const StereoCalibration& calibration, cv::Size frameSize, const std::string& calibrationName);
 
 // Rectifies pairs for one calibration: the fixed-point maps are computed once in the constructor
 // and every pair costs two remaps.

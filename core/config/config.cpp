@@ -41,6 +41,14 @@ void readCamera(Section s, CameraConfig& camera) {
     s.finish();
 }
 
+void readCalibration(Section s, CalibrationConfig& calibration) {
+    s.read("file", calibration.file);
+    if (calibration.file.empty()) {
+        s.fail("file", "must not be empty");
+    }
+    s.finish();
+}
+
 }  // namespace
 
 Config parseConfig(std::string_view text, const std::string& fileName) {
@@ -58,6 +66,7 @@ Config parseConfig(std::string_view text, const std::string& fileName) {
     Section top(root, fileName, "");
     readLog(top.child("log"), config.log);
     readCamera(top.child("camera"), config.camera);
+    readCalibration(top.child("calibration"), config.calibration);
     top.finish();
     return config;
 }

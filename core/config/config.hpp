@@ -32,10 +32,17 @@ struct CameraConfig {
     std::map<std::string, std::int64_t> controls;
 };
 
+struct CalibrationConfig {
+    // The stereo calibration the daemon rectifies with (OpenCV FileStorage, `icewatch calibrate`).
+    // Its eye size must match camera.width/2 x camera.height.
+    std::string file = "/etc/icewatch/calibration.yaml";
+};
+
 struct Config {
     std::string sourceFile;  // where it was loaded from, for messages
     LogConfig log;
     CameraConfig camera;
+    CalibrationConfig calibration;
 };
 
 // Parses and validates a whole configuration; fileName is only used in messages. JSON with //

@@ -24,5 +24,7 @@ struct Registration {
 
 // One function per subcommand file (tools/icewatch/cmd_*.cpp).
 void addConfigCommand(CLI::App& app, const GlobalOptions& global, RunFunction& run);
+void addCalibrateCommand(CLI::App& app, const GlobalOptions& global, RunFunction& run);
+void addRectifyCommand(CLI::App& app, const GlobalOptions& global, RunFunction& run);
 
 }  // namespace icewatch::cli

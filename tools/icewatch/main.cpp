@@ -20,6 +20,8 @@ int main(int argc, char** argv) {
 
     cli::RunFunction run;
     cli::addConfigCommand(app, global, run);
+    cli::addCalibrateCommand(app, global, run);
+    cli::addRectifyCommand(app, global, run);
 
     try {
         app.parse(argc, argv);

@@ -1,6 +1,7 @@
 #include "core/calib/stereo_calibration.hpp"
 
 #include <fstream>
+#include <tuple>
 
 #include <gtest/gtest.h>
 
@@ -77,6 +78,57 @@ TEST(StereoCalibration, BadFilesNameTheEntry) {
     EXPECT_FALSE(loadError(dir / "junk.yaml").empty());
 }
 
+// config/calibration/ carries the nominal HBVCAM model for every supported side-by-side mode.
+TEST(StereoCalibration, ShippedNominalFilesMatchTheModel) {
+    const std::pair<const char*, cv::Size> modes[] = {
+        {"1280x480", {640, 480}}, {"2560x720", {1280, 720}}, {"3840x1080", {1920, 1080}}, {"3840x1520", {1920, 1520}}};
+    for (const auto& [mode, eye] : modes) {
+        const auto file = test::sourceDir() / "config" / "calibration" / (std::string("hbvcam-nominal-") + mode + ".yaml");
+        const StereoCalibration shipped = loadCalibration(file);
+        const StereoCalibration model = nominalCalibration(eye, 80.0, 60.0);
+        EXPECT_EQ(shipped.imageSize, eye) << mode;
+        for (const auto& [name, a, b] : {std::tuple{"M1", shipped.M1, model.M1}, std::tuple{"M2", shipped.M2, model.M2},
+                                         std::tuple{"D1", shipped.D1, model.D1}, std::tuple{"D2", shipped.D2, model.D2},
+                                         std::tuple{"R", shipped.R, model.R}, std::tuple{"T", shipped.T, model.T},
+                                         std::tuple{"P1", shipped.P1, model.P1}, std::tuple{"P2", shipped.P2, model.P2},
+                                         std::tuple{"Q", shipped.Q, model.Q}}) {
+            EXPECT_LT(cv::norm(a, b, cv::NORM_INF), 1e-9) << mode << " " << name;
+        }
+        EXPECT_NEAR(shipped.baselineMm(), 60.0, 1e-12) << mode;
+    }
+}
+
+TEST(StereoCalibration, ValidationNamesBadDerivedEntries) {
+    StereoCalibration c = nominalCalibration({640, 480}, 80.0, 60.0);
+    c.P2.at<double>(0, 0) = -1;
+    try {
+        validateCalibration(c, "memory");
+        FAIL() << "a negative rectified focal length must be refused";
+    } catch (const Error& e) {
+        EXPECT_STREQ(e.what(), "memory: P2: focal lengths must be positive");
+    }
+    c = nominalCalibration({640, 480}, 80.0, 60.0);
+    c.R1.at<double>(0, 0) = 2;
+    EXPECT_THROW(validateCalibration(c, "memory"), Error);
+    c = nominalCalibration({640, 480}, 80.0, 60.0);
+    c.imageSize.width = 100000;
+    EXPECT_THROW(validateCalibration(c, "memory"), Error);
+}
+
+TEST(StereoCalibration, SaveReplacesTheFileWholeAndKeepsTheComment) {
+    const auto dir = test::freshTempDir();
+    saveCalibration(dir / "c.yaml", nominalCalibration({640, 480}, 80.0, 60.0), "first line\nsecond line");
+    saveCalibration(dir / "c.yaml", nominalCalibration({1280, 720}, 80.0, 60.0), "replaced");
+    EXPECT_EQ(loadCalibration(dir / "c.yaml").imageSize, cv::Size(1280, 720));
+    std::ifstream in(dir / "c.yaml");
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_NE(text.find("# replaced\n"), std::string::npos);
+    EXPECT_EQ(text.find("first line"), std::string::npos);
+    // Nothing is left beside it.
+    EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir), std::filesystem::directory_iterator()), 1);
+    EXPECT_THROW(saveCalibration(dir / "missing-dir" / "c.yaml", nominalCalibration({640, 480}, 80.0, 60.0)), Error);
+}
+
 TEST(Rectifier, IdentityForNominalPairAndSizeCheck) {
     const StereoCalibration c = nominalCalibration({64, 48}, 80.0, 60.0);
     Rectifier rectifier(c);
@@ -89,6 +141,13 @@ TEST(Rectifier, IdentityForNominalPairAndSizeCheck) {
     EXPECT_EQ(cv::norm(out.right, pair.right, cv::NORM_INF), 0.0);
     StereoPair wrong{cv::Mat(48, 60, CV_8UC3), cv::Mat(48, 60, CV_8UC3)};
     EXPECT_THROW(rectifier.rectify(wrong), InvalidInput);
+    EXPECT_NO_THROW(checkFrameSize(c, {128, 48}, "c.yaml"));
+    try {
+        checkFrameSize(c, {120, 48}, "c.yaml");
+        FAIL() << "a frame of the wrong size must be refused";
+    } catch (const InvalidInput& e) {
+        EXPECT_STREQ(e.what(), "frame is 120x48, but c.yaml is for eyes of 64x48 (a 128x48 side-by-side frame)");
+    }
 }
 
 }  // namespace

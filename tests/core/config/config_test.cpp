@@ -42,6 +42,15 @@ TEST(Config, ShippedFileDocumentsTheDefaults) {
     EXPECT_EQ(shipped.camera.reconnectMinMs, defaults.camera.reconnectMinMs);
     EXPECT_EQ(shipped.camera.reconnectMaxMs, defaults.camera.reconnectMaxMs);
     EXPECT_EQ(shipped.log.level, defaults.log.level);
+    EXPECT_EQ(shipped.calibration.file, defaults.calibration.file);
+}
+
+TEST(Config, CalibrationFile) {
+    EXPECT_EQ(parseConfig("{}", "test.json").calibration.file, "/etc/icewatch/calibration.yaml");
+    EXPECT_EQ(parseConfig(R"({"calibration": {"file": "/srv/box7.yaml"}})", "test.json").calibration.file,
+              "/srv/box7.yaml");
+    EXPECT_EQ(errorOf(R"({"calibration": {"file": ""}})"), "test.json: calibration.file: must not be empty");
+    EXPECT_EQ(errorOf(R"({"calibration": {"path": "x"}})"), "test.json: calibration.path: unknown key");
 }
 
 TEST(Config, ReadsValuesAndComments) {
