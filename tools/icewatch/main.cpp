@@ -20,6 +20,9 @@ int main(int argc, char** argv) {
 
     cli::RunFunction run;
     cli::addConfigCommand(app, global, run);
+    cli::addInfoCommand(app, global, run);
+    cli::addRecordCommand(app, global, run);
+    cli::addAcquireCommand(app, global, run);
 
     try {
         app.parse(argc, argv);
