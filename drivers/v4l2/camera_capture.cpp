@@ -97,9 +97,10 @@ CaptureError CameraCapture::fail(CaptureError error, const std::string& what) {
     closeAll();
     retryPending_ = true;
     lastError_ = what;
-    stateLog_.report(std::string("offline:") + captureErrorName(error), spdlog::level::warn,
+    const bool configuration = error == CaptureError::kBadControl || error == CaptureError::kFormatUnsupported;
+    stateLog_.report(std::string("offline:") + captureErrorName(error), configuration ? spdlog::level::err : spdlog::level::warn,
                      "camera " + path_ + " offline (" + captureErrorName(error) + "): " + what +
-                         "; retrying with back-off");
+                         (configuration ? "; fix the configuration" : "; retrying with back-off"));
     return error;
 }
 

@@ -34,6 +34,7 @@ std::optional<DropReason> checkFrameBytes(PixelFormat format, const std::uint8_t
     if (format == PixelFormat::kYuyv) {
         const std::size_t expected = static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 2;
         if (size < expected) return DropReason::kShortFrame;
+        if (size > expected) return DropReason::kSizeMismatch;
         return std::nullopt;
     }
     if (size < kMinJpegBytes) {
@@ -127,6 +128,22 @@ std::vector<std::uint8_t> withStandardHuffmanTables(const std::uint8_t* data, st
     out.insert(out.end(), data, data + 2);  // SOI
     out.insert(out.end(), dht.begin(), dht.end());
     out.insert(out.end(), data + 2, data + size);
+    return out;
+}
+
+std::vector<std::uint8_t> withoutHuffmanTables(const std::uint8_t* data, std::size_t size) {
+    std::vector<std::uint8_t> out(data, data + std::min<std::size_t>(size, 2));
+    std::size_t pos = 2;
+    while (pos + 4 <= size && data[pos] == 0xFF && data[pos + 1] != 0xDA) {
+        const std::size_t length = std::min(size - pos, 2 + ((std::size_t{data[pos + 2]} << 8) | data[pos + 3]));
+        if (data[pos + 1] != 0xC4) {
+            out.insert(out.end(), data + pos, data + pos + length);
+        }
+        pos += length;
+    }
+    if (pos < size) {
+        out.insert(out.end(), data + pos, data + size);
+    }
     return out;
 }
 

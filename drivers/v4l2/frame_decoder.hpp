@@ -31,7 +31,7 @@ const char* dropReasonName(DropReason reason);
 inline constexpr std::size_t kMinJpegBytes = 128;
 
 // The cheap checks made on the bytes before they are decoded (buffer flags and indices are the
-// capture's business). YUYV must fill the frame exactly; MJPEG must start with SOI and end with
+// capture's business). YUYV must fill the frame exactly (less: short, more: another size); MJPEG must start with SOI and end with
 // EOI, trailing zero padding (some UVC cameras send it) aside.
 std::optional<DropReason> checkFrameBytes(PixelFormat format, const std::uint8_t* data, std::size_t size, int width,
                                           int height);
@@ -42,6 +42,9 @@ bool hasHuffmanTables(const std::uint8_t* data, std::size_t size);
 // leave them out because they are implied (the UVC payload spec; ffmpeg and mjpg-streamer do the
 // same). Expects data to start with SOI.
 std::vector<std::uint8_t> withStandardHuffmanTables(const std::uint8_t* data, std::size_t size);
+// The reverse: a JPEG with its DHT segments removed, as a UVC camera sends MJPEG (recordings of
+// synthetic scenes, tests). Only meaningful for JPEGs coded with the standard tables.
+std::vector<std::uint8_t> withoutHuffmanTables(const std::uint8_t* data, std::size_t size);
 
 // Decodes camera frames to BGR: MJPEG through libjpeg (libjpeg-turbo on Debian), YUYV through
 // OpenCV. A JPEG that raises any libjpeg warning ("Corrupt JPEG data", "Premature end") is
