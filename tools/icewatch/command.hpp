@@ -26,5 +26,8 @@ struct Registration {
 void addConfigCommand(CLI::App& app, const GlobalOptions& global, RunFunction& run);
 void addCalibrateCommand(CLI::App& app, const GlobalOptions& global, RunFunction& run);
 void addRectifyCommand(CLI::App& app, const GlobalOptions& global, RunFunction& run);
+void addInfoCommand(CLI::App& app, const GlobalOptions& global, RunFunction& run);
+void addRecordCommand(CLI::App& app, const GlobalOptions& global, RunFunction& run);
+void addAcquireCommand(CLI::App& app, const GlobalOptions& global, RunFunction& run);
 
 }  // namespace icewatch::cli

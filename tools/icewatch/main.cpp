@@ -22,6 +22,9 @@ int main(int argc, char** argv) {
     cli::addConfigCommand(app, global, run);
     cli::addCalibrateCommand(app, global, run);
     cli::addRectifyCommand(app, global, run);
+    cli::addInfoCommand(app, global, run);
+    cli::addRecordCommand(app, global, run);
+    cli::addAcquireCommand(app, global, run);
 
     try {
         app.parse(argc, argv);
