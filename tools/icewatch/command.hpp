@@ -24,5 +24,7 @@ struct Registration {
 
 // One function per subcommand file (tools/icewatch/cmd_*.cpp).
 void addConfigCommand(CLI::App& app, const GlobalOptions& global, RunFunction& run);
+void addSynthCommand(CLI::App& app, const GlobalOptions& global, RunFunction& run);
+void addVolumeCommand(CLI::App& app, const GlobalOptions& global, RunFunction& run);
 
 }  // namespace icewatch::cli
