@@ -107,8 +107,8 @@ double iceVolumeMm3(const GridSurface& s) {
 
 // The blade planform and its ice shape for amplitude 1 (mm of leading-edge ice at full span
 // weight). Ice grows towards the tip (accretion scales with the local speed) and leaves the root
-// and the rear of the chord clean: leading-edge accretion decaying over a few % of chord plus a
-// thin glaze running back to about half chord.
+// and the rear of the chord clean: leading-edge accretion decaying over a quarter of the chord
+// plus a thin glaze running back to about half chord.
 GridSurface bladeSurface(std::uint32_t seed) {
     GridSurface s;
     s.nu = 410;
@@ -126,8 +126,8 @@ GridSurface bladeSurface(std::uint32_t seed) {
             const double h = 5.0 * kAirfoilThickness * chord *
                              (0.2969 * std::sqrt(c) - 0.1260 * c - 0.3516 * c * c + 0.2843 * c * c * c -
                               0.1036 * c * c * c * c);
-            const double spanWeight = smoothstep(0.2, 0.5, spanPos) * (0.6 + 0.8 * spanPos);
-            const double shape = std::exp(-c / 0.05) + 0.2 * (1.0 - smoothstep(0.3, 0.55, c));
+            const double spanWeight = smoothstep(0.2, 0.5, spanPos) * (0.8 + 0.4 * spanPos);
+            const double shape = std::exp(-c / 0.25) * (1.0 - smoothstep(0.4, 0.6, c)) + 0.3 * (1.0 - smoothstep(0.3, 0.55, c));
             const double roughness = 1.0 + 0.2 * fractalNoise(x, y, 15.0, 2, seed + 500);
             s.local[s.index(i, j)] = {x, y, std::max(0.0, h)};
             s.ice[s.index(i, j)] = static_cast<float>(spanWeight * shape * roughness);
@@ -357,6 +357,7 @@ SyntheticScene renderScene(const SceneSpec& spec) {
         const double scale = spec.iceVolumeMm3 / unitVolume;
         for (float& t : surface.ice) t = static_cast<float>(t * scale);
         scene.iceVolumeMm3 = iceVolumeMm3(surface);
+        scene.maxIceThicknessMm = *std::max_element(surface.ice.begin(), surface.ice.end());
         beforeMeshes.push_back(bladeMesh(surface, 0.0, before));
         afterMeshes.push_back(bladeMesh(surface, 1.0, after));
         for (int i = 0; i <= surface.nu; i += 10) {  // leading edge, root to tip
@@ -370,6 +371,7 @@ SyntheticScene renderScene(const SceneSpec& spec) {
     } else {
         const double heightMm = spec.iceVolumeMm3 / (kBlockLengthMm * kBlockWidthMm);
         scene.iceVolumeMm3 = heightMm * kBlockLengthMm * kBlockWidthMm;
+        scene.maxIceThicknessMm = heightMm;
         beforeMeshes = blockMeshes(0.0, before);
         afterMeshes = blockMeshes(heightMm, after);
         const double hx = kPlateLengthMm / 2 - kPlateRoiInsetMm, hy = kPlateWidthMm / 2 - kPlateRoiInsetMm;
@@ -421,6 +423,7 @@ void writeScene(const SyntheticScene& scene, const SceneSpec& spec, const std::f
     writeJson("roi.json", {{"eye", "left"}, {"polygon", polygon}});
     writeJson("truth.json", {{"scene", spec.kind == SceneKind::Blade ? "blade" : "block"},
                              {"ice_volume_mm3", scene.iceVolumeMm3},
+                             {"max_ice_thickness_mm", scene.maxIceThicknessMm},
                              {"seed", spec.seed},
                              {"mode", std::to_string(spec.frameSize.width) + "x" + std::to_string(spec.frameSize.height)},
                              {"noise_sigma", spec.noiseSigma},

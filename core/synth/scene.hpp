@@ -46,6 +46,7 @@ struct SyntheticScene {
     cv::Mat after;
     std::vector<cv::Point2d> roi;  // the object's outline in left-eye pixels (before capture)
     double iceVolumeMm3 = 0.0;     // exact, from the rendered geometry
+    double maxIceThicknessMm = 0.0;
     RigidMotion motion;
 };
 

@@ -119,6 +119,31 @@ cv::Mat falseColour(const cv::Mat& values, double lo, double hi) {
     return colour;
 }
 
+// The baseline's outline as the object stands in the current capture: every outline pixel is
+// put on the baseline's plane, moved back by the registration and projected; then eroded by the
+// edge margin, where depths mix.
+cv::Mat outlineInCurrent(const cv::Mat& roi, const PlaneFrame& plane, const RigidTransform& toBaseline,
+                         const cv::Matx34d& projection, int edgeMarginPx) {
+    const cv::Matx33d k = projection.get_minor<3, 3>(0, 0);
+    const cv::Matx33d kInv = k.inv();
+    const cv::Matx33d back = toBaseline.rotation.t();
+    std::vector<std::vector<cv::Point>> contours;
+    cv::findContours(roi.clone(), contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
+    for (auto& contour : contours)
+        for (cv::Point& px : contour) {
+            const cv::Vec3d ray = kInv * cv::Vec3d(px.x, px.y, 1.0);
+            const cv::Vec3d onPlane = (plane.normal.dot(plane.origin) / plane.normal.dot(ray)) * ray;
+            const cv::Vec3d moved = k * (back * (onPlane - toBaseline.translation));
+            px = {static_cast<int>(std::lround(moved[0] / moved[2])), static_cast<int>(std::lround(moved[1] / moved[2]))};
+        }
+    cv::Mat mask = cv::Mat::zeros(roi.size(), CV_8U);
+    cv::fillPoly(mask, contours, cv::Scalar(255));
+    if (edgeMarginPx > 0) {
+        cv::erode(mask, mask, cv::getStructuringElement(cv::MORPH_ELLIPSE, {2 * edgeMarginPx + 1, 2 * edgeMarginPx + 1}));
+    }
+    return mask;
+}
+
 VolumeResult refused(VolumeResult result, const std::string& reason) {
     result.ok = false;
     result.reason = reason;
@@ -253,33 +278,63 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     timer.lap("plane");
 
     // --- register the current capture onto the baseline ---
-    const int reachPx = static_cast<int>(std::ceil(0.5 * p.maxRegistrationMm * impl_->focalPx / depthMm)) + p.edgeMarginPx;
-    cv::Mat reach;
-    cv::dilate(baseline.roi, reach, cv::getStructuringElement(cv::MORPH_RECT, {2 * reachPx + 1, 2 * reachPx + 1}));
     const int step = p.icpSampleStep;
     std::vector<cv::Vec3d> samples;
     std::vector<cv::Point> samplePixels;
-    for (int y = 0; y < current.points.rows; y += step)
-        for (int x = 0; x < current.points.cols; x += step) {
-            const cv::Vec3f q = current.points.at<cv::Vec3f>(y, x);
-            if (reach.at<std::uint8_t>(y, x) && validPoint(q)) {
-                samples.emplace_back(q[0], q[1], q[2]);
-                samplePixels.emplace_back(x / step, y / step);
+    auto sampleCurrent = [&](const cv::Mat& where) {
+        samples.clear();
+        samplePixels.clear();
+        for (int y = 0; y < current.points.rows; y += step)
+            for (int x = 0; x < current.points.cols; x += step) {
+                const cv::Vec3f q = current.points.at<cv::Vec3f>(y, x);
+                if (where.at<std::uint8_t>(y, x) && validPoint(q)) {
+                    samples.emplace_back(q[0], q[1], q[2]);
+                    samplePixels.emplace_back(x / step, y / step);
+                }
             }
-        }
+    };
+    sampleCurrent(measured);  // the object moves a few pixels at most: a first fit from where it was
     const cv::Mat normals = organizedNormals(baseline.points, 3);
     RegistrationOptions options{p.icpIterations, p.icpConvergenceMm, p.icpTrimSigma};
     RegistrationResult registration =
         registerPointToPlane(baseline.points, normals, measured, impl_->projection, samples, {}, {}, options);
-    // Again without the places that look changed: ice would otherwise pull the fit towards itself.
+    // Again, from where the object now is and without the places that look changed: sky seen
+    // where the object was, and ice, would otherwise pull the fit towards themselves.
+    const cv::Mat currentOutline = outlineInCurrent(baseline.roi, plane, registration.transform, impl_->projection,
+                                                    p.edgeMarginPx);
+    sampleCurrent(currentOutline);
+    RegistrationOptions evaluateOnly = options;
+    evaluateOnly.iterations = 0;
+    registration.residualsMm = registerPointToPlane(baseline.points, normals, measured, impl_->projection, samples, {},
+                                                    registration.transform, evaluateOnly)
+                                   .residualsMm;
     cv::Mat residualMap((current.points.rows + step - 1) / step, (current.points.cols + step - 1) / step, CV_64F,
                         cv::Scalar(kNaN));
     for (std::size_t i = 0; i < samples.size(); ++i) residualMap.at<double>(samplePixels[i]) = registration.residualsMm[i];
     const cv::Mat averaged = localMean(residualMap, std::max(2, 8 / step));
+    // Changed = the local mean residual stands out of its own noise (3 robust σ, at least
+    // change_threshold_mm). The cut is symmetric: cutting only the ice side would cut the noise's
+    // positive half too and push the whole fit forwards.
+    std::vector<double> localValues;
+    for (std::size_t i = 0; i < samples.size(); ++i) {
+        const double a = averaged.at<double>(samplePixels[i]);
+        if (!std::isnan(a)) localValues.push_back(a);
+    }
+    double localSigma = 0;
+    if (!localValues.empty()) {
+        std::vector<double> sorted = localValues;
+        const auto mid = sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2);
+        std::nth_element(sorted.begin(), mid, sorted.end());
+        const double centre = *mid;
+        for (double& v : sorted) v = std::abs(v - centre);
+        std::nth_element(sorted.begin(), mid, sorted.end());
+        localSigma = 1.4826 * *mid;
+    }
+    const double changeCut = std::max(p.changeThresholdMm, 3.0 * localSigma);
     std::vector<std::uint8_t> unchanged(samples.size(), 0);
     for (std::size_t i = 0; i < samples.size(); ++i) {
         const double a = averaged.at<double>(samplePixels[i]);
-        unchanged[i] = !std::isnan(a) && a < p.changeThresholdMm;
+        unchanged[i] = !std::isnan(a) && std::abs(a) < changeCut;
     }
     registration = registerPointToPlane(baseline.points, normals, measured, impl_->projection, samples, unchanged,
                                         registration.transform, options);
@@ -319,7 +374,7 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     for (int y = 0; y < current.points.rows; ++y)
         for (int x = 0; x < current.points.cols; ++x) {
             const cv::Vec3f q = current.points.at<cv::Vec3f>(y, x);
-            if (!reach.at<std::uint8_t>(y, x) || !validPoint(q)) continue;
+            if (!currentOutline.at<std::uint8_t>(y, x) || !validPoint(q)) continue;
             const cv::Point3d local = plane.toPlane(transform.apply(cv::Vec3d(q[0], q[1], q[2])));
             if (local.z < hMin - behindMm || local.z > hMax + p.maxThicknessMm) continue;  // background, sky
             currentList.push_back(local);

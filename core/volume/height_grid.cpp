@@ -63,7 +63,9 @@ GridSpec makeGrid(double uMin, double uMax, double vMin, double vMax, double cel
 
 cv::Mat interpolateLattice(const cv::Mat& planePoints, const GridSpec& grid) {
     CV_Assert(planePoints.type() == CV_64FC3);
-    cv::Mat values(grid.nv, grid.nu, CV_64F, cv::Scalar(kNaN));
+    // Noise moves points sideways as well as in depth, so neighbouring triangles can overlap a
+    // little: a node covered twice gets the mean (taking the front one would bias upwards).
+    cv::Mat sum(grid.nv, grid.nu, CV_64F, cv::Scalar(0.0)), count(grid.nv, grid.nu, CV_32S, cv::Scalar(0));
     auto valid = [](const cv::Vec3d& p) { return !std::isnan(p[2]); };
     auto rasterTriangle = [&](const cv::Vec3d& a, const cv::Vec3d& b, const cv::Vec3d& c) {
         // In grid index space.
@@ -79,14 +81,16 @@ cv::Mat interpolateLattice(const cv::Mat& planePoints, const GridSpec& grid) {
         const double invArea = 1.0 / area;
         constexpr double kEdge = -1e-9;  // nodes exactly on a shared edge belong to both
         for (int y = y0; y <= y1; ++y) {
-            auto* row = values.ptr<double>(y);
+            auto* sumRow = sum.ptr<double>(y);
+            auto* countRow = count.ptr<int>(y);
             for (int x = x0; x <= x1; ++x) {
                 const double wa = ((bx - x) * (cy - y) - (cx - x) * (by - y)) * invArea;
                 const double wb = ((cx - x) * (ay - y) - (ax - x) * (cy - y)) * invArea;
                 const double wc = 1.0 - wa - wb;
                 if (wa < kEdge || wb < kEdge || wc < kEdge) continue;
                 const double h = wa * a[2] + wb * b[2] + wc * c[2];
-                if (std::isnan(row[x]) || h > row[x]) row[x] = h;
+                sumRow[x] += h;
+                ++countRow[x];
             }
         }
     };
@@ -96,11 +100,11 @@ cv::Mat interpolateLattice(const cv::Mat& planePoints, const GridSpec& grid) {
         for (int x = 0; x + 1 < planePoints.cols; ++x) {
             const cv::Vec3d &a = top[x], &b = top[x + 1], &c = bottom[x], &d = bottom[x + 1];
             const bool va = valid(a), vb = valid(b), vc = valid(c), vd = valid(d);
-            const int count = va + vb + vc + vd;
-            if (count == 4) {
+            const int corners = va + vb + vc + vd;
+            if (corners == 4) {
                 rasterTriangle(a, b, d);
                 rasterTriangle(a, d, c);
-            } else if (count == 3) {
+            } else if (corners == 3) {
                 if (!va) rasterTriangle(b, d, c);
                 if (!vb) rasterTriangle(a, d, c);
                 if (!vc) rasterTriangle(a, b, d);
@@ -108,6 +112,12 @@ cv::Mat interpolateLattice(const cv::Mat& planePoints, const GridSpec& grid) {
             }
         }
     }
+    cv::Mat values(grid.nv, grid.nu, CV_64F, cv::Scalar(kNaN));
+    for (int y = 0; y < grid.nv; ++y)
+        for (int x = 0; x < grid.nu; ++x) {
+            const int n = count.at<int>(y, x);
+            if (n > 0) values.at<double>(y, x) = sum.at<double>(y, x) / n;
+        }
     return values;
 }
 

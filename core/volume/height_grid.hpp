@@ -40,7 +40,7 @@ GridSpec makeGrid(double uMin, double uMax, double vMin, double vMax, double cel
 // per pixel, NaN where there is no point) is triangulated along its pixel lattice (two triangles
 // per 2×2 block, one when a corner is missing), which is the Delaunay triangulation of a lattice
 // and never bridges a hole; every grid node inside a triangle gets the barycentric blend of its
-// corners' h, the frontmost one where the surface folds. CV_64F Nv × Nu, NaN = not covered.
+// corners' h, the mean where noise makes triangles overlap. CV_64F Nv × Nu, NaN = not covered.
 cv::Mat interpolateLattice(const cv::Mat& planePoints, const GridSpec& grid);
 
 // Gives every NaN node with `inside` != 0 the value of its nearest non-NaN node. Returns how

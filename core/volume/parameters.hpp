@@ -27,7 +27,7 @@ struct Parameters {
 
     // --- registration (current capture onto the baseline) ---
     int icpIterations = 50;
-    double icpConvergenceMm = 0.005;  // stop when an update moves the surface less than this
+    double icpConvergenceMm = 0.02;   // stop when an update moves the surface less than this
     int icpSampleStep = 2;            // use every n-th pixel in x and y
     double icpTrimSigma = 3.0;        // residuals beyond this many robust sigmas are left out
     double changeThresholdMm = 0.8;   // locally averaged thickness above this = changed (ice), not used

@@ -18,7 +18,7 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // Eigenvalues below this fraction of the largest mark a direction the surface does not constrain.
-constexpr double kDegenerateRatio = 1e-3;
+constexpr double kDegenerateRatio = 1e-2;
 
 double median(std::vector<double> values) {
     if (values.empty()) return 0.0;

@@ -14,7 +14,7 @@ struct RigidTransform {
 
 struct RegistrationOptions {
     int iterations = 50;
-    double convergenceMm = 0.005;
+    double convergenceMm = 0.02;
     double trimSigma = 3.0;
 };
 
@@ -40,7 +40,8 @@ cv::Mat organizedNormals(const cv::Mat& points, int radius);
 // `baselineMask` allows it. The loss is robust: Tukey's biweight on the residual with a scale from
 // the median absolute deviation, and residuals beyond trimSigma scales are left out. `use` (one
 // flag per current point, may be empty) restricts the points that drive the fit, e.g. to the
-// parts of the surface that did not change; residuals are returned for every point.
+// parts of the surface that did not change; residuals are returned for every point. With
+// options.iterations = 0 it only evaluates the residuals at `initial`.
 RegistrationResult registerPointToPlane(const cv::Mat& baselinePoints, const cv::Mat& baselineNormals,
                                         const cv::Mat& baselineMask, const cv::Matx34d& projection,
                                         const std::vector<cv::Vec3d>& currentPoints,
