@@ -1,7 +1,7 @@
 // icewatch synth: render a synthetic scene of known ice volume (calibration, two side-by-side
 // captures, the object's outline and the truth) for the volume chain and its benchmark.
 #include <iostream>
-#include <regex>
+#include <charconv>
 
 #include <nlohmann/json.hpp>
 
@@ -14,12 +14,17 @@ namespace icewatch::cli {
 namespace {
 
 cv::Size parseMode(const std::string& mode) {
-    static const std::regex pattern(R"((\d{2,5})x(\d{2,5}))");
-    std::smatch m;
-    if (!std::regex_match(mode, m, pattern)) {
+    // WIDTHxHEIGHT, both plain decimal numbers.
+    const auto x = mode.find('x');
+    int width = 0, height = 0;
+    const char* end = mode.data() + mode.size();
+    const bool ok = x != std::string::npos &&
+                    std::from_chars(mode.data(), mode.data() + x, width).ptr == mode.data() + x &&
+                    std::from_chars(mode.data() + x + 1, end, height).ptr == end && width > 0 && height > 0;
+    if (!ok) {
         throw Error(kExitUsage, "--mode must look like 2560x720, got \"" + mode + "\"");
     }
-    return {std::stoi(m[1]), std::stoi(m[2])};
+    return {width, height};
 }
 
 }  // namespace
