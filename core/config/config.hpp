@@ -6,6 +6,8 @@
 #include <string>
 #include <string_view>
 
+#include "core/volume/parameters.hpp"
+
 namespace icewatch::config {
 
 // Every key is documented, with its default, in config/icewatch.json. The defaults here and
@@ -43,6 +45,7 @@ struct Config {
     LogConfig log;
     CameraConfig camera;
     CalibrationConfig calibration;
+    volume::Parameters volume;  // the "volume" section: every tunable of the volume chain
 };
 
 // Parses and validates a whole configuration; fileName is only used in messages. JSON with //

@@ -29,5 +29,7 @@ void addRectifyCommand(CLI::App& app, const GlobalOptions& global, RunFunction& 
 void addInfoCommand(CLI::App& app, const GlobalOptions& global, RunFunction& run);
 void addRecordCommand(CLI::App& app, const GlobalOptions& global, RunFunction& run);
 void addAcquireCommand(CLI::App& app, const GlobalOptions& global, RunFunction& run);
+void addSynthCommand(CLI::App& app, const GlobalOptions& global, RunFunction& run);
+void addVolumeCommand(CLI::App& app, const GlobalOptions& global, RunFunction& run);
 
 }  // namespace icewatch::cli

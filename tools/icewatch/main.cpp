@@ -25,6 +25,8 @@ int main(int argc, char** argv) {
     cli::addInfoCommand(app, global, run);
     cli::addRecordCommand(app, global, run);
     cli::addAcquireCommand(app, global, run);
+    cli::addSynthCommand(app, global, run);
+    cli::addVolumeCommand(app, global, run);
 
     try {
         app.parse(argc, argv);
