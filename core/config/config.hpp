@@ -6,6 +6,8 @@
 #include <string>
 #include <string_view>
 
+#include "core/stereo/parameters.hpp"
+
 namespace icewatch::config {
 
 // Every key is documented, with its default, in config/icewatch.json. The defaults here and
@@ -36,6 +38,7 @@ struct Config {
     std::string sourceFile;  // where it was loaded from, for messages
     LogConfig log;
     CameraConfig camera;
+    stereo::Parameters stereo;  // the matcher's parameters (core/stereo/parameters.hpp documents them)
 };
 
 // Parses and validates a whole configuration; fileName is only used in messages. JSON with //

@@ -24,5 +24,8 @@ struct Registration {
 
 // One function per subcommand file (tools/icewatch/cmd_*.cpp).
 void addConfigCommand(CLI::App& app, const GlobalOptions& global, RunFunction& run);
+void addMatchCommand(CLI::App& app, const GlobalOptions& global, RunFunction& run);
+void addEvalCommand(CLI::App& app, const GlobalOptions& global, RunFunction& run);
+void addBenchCommand(CLI::App& app, const GlobalOptions& global, RunFunction& run);
 
 }  // namespace icewatch::cli

@@ -20,6 +20,9 @@ int main(int argc, char** argv) {
 
     cli::RunFunction run;
     cli::addConfigCommand(app, global, run);
+    cli::addMatchCommand(app, global, run);
+    cli::addEvalCommand(app, global, run);
+    cli::addBenchCommand(app, global, run);
 
     try {
         app.parse(argc, argv);
