@@ -60,8 +60,16 @@ cv::Mat CensusMatcher::compute(const cv::Mat& left, const cv::Mat& right, int ma
     regionVoting(arms_, p, disparity, labels);
     interpolateOutliers(disparity, labels);
 
-    // 6. Sub-pixel refinement on the aggregated cost; Mei's final 3x3 median.
+    // 6. Sub-pixel: fit on the aggregated cost, intensity refinement against pixel locking;
+    //    Mei's final 3x3 median.
     cv::Mat refined = subpixelRefine(disparity, scratch_);
+    if (p.subpixelIntensityRefinement) {
+        cv::Mat floatLeft, floatRight;
+        greyLeft.convertTo(floatLeft, CV_32F);
+        greyRight.convertTo(floatRight, CV_32F);
+        refineSubpixelByIntensity(floatLeft, floatRight, p.subpixelWindowRadius, p.subpixelIterations,
+                                  static_cast<float>(p.subpixelMaxChange), refined);
+    }
     if (p.medianFilter) cv::medianBlur(refined, refined, 3);
     return refined;
 }

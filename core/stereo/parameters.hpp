@@ -53,6 +53,12 @@ struct Parameters {
     int votingIterations = 5;     // Mei: 5
     int votingMinCount = 20;      // tau_S: reliable pixels the region needs. Mei: 20
     double votingMinRatio = 0.4;  // tau_H: share of the most frequent disparity. Mei: 0.4
+    // Sub-pixel: V fit on the aggregated cost, then 1-D Lucas-Kanade on the grey images to remove
+    // the pixel locking the fit leaves (refinement.cpp explains; the volume depends on it).
+    bool subpixelIntensityRefinement = true;
+    int subpixelWindowRadius = 2;      // (2r+1)^2 window
+    int subpixelIterations = 3;        // Gauss-Newton steps
+    double subpixelMaxChange = 0.5;    // px away from the fitted value, else the fit stands
     bool medianFilter = true;     // Mei's final 3x3 median; removes isolated sub-pixel outliers
 
     // --- OpenCV StereoSGBM baseline (3-way mode) ---

@@ -161,6 +161,11 @@ int regionVoting(const CrossArms& arms, const Parameters& parameters, cv::Mat& d
 void interpolateOutliers(cv::Mat& disparity, cv::Mat& labels);
 // Sub-pixel disparity from the aggregated costs around each integer disparity. CV_32FC1.
 cv::Mat subpixelRefine(const cv::Mat& disparity, const CostVolume& costs);
+// Removes what is left of pixel locking: Gauss-Newton steps of 1-D Lucas-Kanade on the grey
+// images (zero-mean over a (2r+1)^2 window), starting from the fitted disparity and staying
+// within ±maxChange of it. greyLeft, greyRight: CV_32FC1.
+void refineSubpixelByIntensity(const cv::Mat& greyLeft, const cv::Mat& greyRight, int radius, int iterations,
+                               float maxChange, cv::Mat& disparity);
 // The fit used by subpixelRefine: offset in (-0.5, 0.5) from the costs at d-1, d, d+1.
 float subpixelOffset(int costMinus, int cost, int costPlus);
 
