@@ -11,7 +11,9 @@
 // I > S/m + alpha  <=>  I > floor((S + alpha m) / m), and I < S/m - alpha  <=>  I < ceil((S - alpha m) / m),
 // so every pixel gets two 8-bit thresholds and no floating point is involved.
 #include <algorithm>
+#include <bit>
 
+#include <opencv2/core/hal/intrin.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "core/stereo/stages.hpp"
@@ -98,7 +100,9 @@ cv::Mat censusWindowMask(const cv::Mat& grey, double gradientThreshold) {
 
 cv::Mat channelGradientMagnitudes(const cv::Mat& bgr) {
     cv::Mat magnitude8;
-    sobelMagnitude32F(bgr).convertTo(magnitude8, CV_8U);  // rounds and saturates
+    // Quarter grey levels: the gradient term is decisive and needs the resolution; gradients above
+    // 63.75 grey levels per pixel (strong edges, where Census and AD decide anyway) saturate.
+    sobelMagnitude32F(bgr).convertTo(magnitude8, CV_8U, kGradientSteps);  // rounds and saturates
     return magnitude8;
 }
 
@@ -117,39 +121,136 @@ cv::Mat edgeCornerBits(const cv::Mat& grey, const Parameters& parameters) {
     return bits;
 }
 
+namespace {
+
+constexpr int kChunk = cv::v_uint8x16::nlanes;  // pixels coded at once
+
+// Window offsets in code order (row-major, centre skipped).
+std::vector<cv::Point> windowOffsets(int radius) {
+    std::vector<cv::Point> offsets;
+    for (int dy = -radius; dy <= radius; ++dy)
+        for (int dx = -radius; dx <= radius; ++dx)
+            if (dx != 0 || dy != 0) offsets.emplace_back(dx, dy);
+    return offsets;
+}
+
+// rows[j], lane i = byte j of pixel i's word: a 8x16 byte transpose by three rounds of
+// interleaving gives each pixel's 8 bytes as one 64-bit lane (little endian, like the reference's
+// shifts).
+void transposeToWords(const cv::v_uint8x16 rows[8], std::uint64_t words[kChunk]) {
+    static_assert(std::endian::native == std::endian::little, "the Census byte transpose assumes little endian");
+    cv::v_uint8x16 a0, a1, b0, b1, c0, c1, d0, d1;
+    cv::v_zip(rows[0], rows[1], a0, a1);
+    cv::v_zip(rows[2], rows[3], b0, b1);
+    cv::v_zip(rows[4], rows[5], c0, c1);
+    cv::v_zip(rows[6], rows[7], d0, d1);
+    cv::v_uint16x8 e[4], f[4];
+    cv::v_zip(cv::v_reinterpret_as_u16(a0), cv::v_reinterpret_as_u16(b0), e[0], e[1]);
+    cv::v_zip(cv::v_reinterpret_as_u16(a1), cv::v_reinterpret_as_u16(b1), e[2], e[3]);
+    cv::v_zip(cv::v_reinterpret_as_u16(c0), cv::v_reinterpret_as_u16(d0), f[0], f[1]);
+    cv::v_zip(cv::v_reinterpret_as_u16(c1), cv::v_reinterpret_as_u16(d1), f[2], f[3]);
+    for (int i = 0; i < 4; ++i) {
+        cv::v_uint32x4 lo, hi;
+        cv::v_zip(cv::v_reinterpret_as_u32(e[i]), cv::v_reinterpret_as_u32(f[i]), lo, hi);
+        cv::v_store(words + 4 * i, cv::v_reinterpret_as_u64(lo));
+        cv::v_store(words + 4 * i + 2, cv::v_reinterpret_as_u64(hi));
+    }
+}
+
+struct PaddedInputs {
+    cv::Mat grey, ec, ecHigh;  // ecHigh = ec << 4, for the odd nibble of each byte
+};
+
+// The codes of one window for kChunk pixels starting at padded column px0 of padded row py.
+// needed[i] says which pixels want this window; the others get zeros, as in the reference.
+void encodeChunk(const PaddedInputs& in, int px0, int py, const std::vector<cv::Point>& offsets,
+                 const std::uint8_t* hi, const std::uint8_t* lo, const bool* needed, int count,
+                 std::uint64_t* const* pixelWords) {
+    const cv::v_uint8x16 vHi = cv::v_load(hi), vLo = cv::v_load(lo);
+    const cv::v_uint8x16 brighterLow = cv::v_setall_u8(0x08), darkerLow = cv::v_setall_u8(0x04);
+    const cv::v_uint8x16 brighterHigh = cv::v_setall_u8(0x80), darkerHigh = cv::v_setall_u8(0x40);
+    const int words = static_cast<int>(offsets.size()) / 16;
+    for (int w = 0; w < words; ++w) {
+        cv::v_uint8x16 rows[8];
+        for (int j = 0; j < 8; ++j) {
+            const cv::Point a = offsets[static_cast<std::size_t>(16 * w + 2 * j)];
+            const cv::Point b = offsets[static_cast<std::size_t>(16 * w + 2 * j + 1)];
+            const cv::v_uint8x16 ga = cv::v_load(in.grey.ptr<std::uint8_t>(py + a.y) + px0 + a.x);
+            const cv::v_uint8x16 gb = cv::v_load(in.grey.ptr<std::uint8_t>(py + b.y) + px0 + b.x);
+            const cv::v_uint8x16 low = ((ga > vHi) & brighterLow) | ((ga < vLo) & darkerLow) |
+                                       cv::v_load(in.ec.ptr<std::uint8_t>(py + a.y) + px0 + a.x);
+            const cv::v_uint8x16 high = ((gb > vHi) & brighterHigh) | ((gb < vLo) & darkerHigh) |
+                                        cv::v_load(in.ecHigh.ptr<std::uint8_t>(py + b.y) + px0 + b.x);
+            rows[j] = low | high;
+        }
+        std::uint64_t chunkWords[kChunk];
+        transposeToWords(rows, chunkWords);
+        for (int i = 0; i < count; ++i) pixelWords[i][w] = needed[i] ? chunkWords[i] : 0;
+    }
+}
+
+}  // namespace
+
 void improvedCensus(const cv::Mat& grey, const cv::Mat& edgeCorner, int alpha, const cv::Mat& windowMask,
                     CensusImage& out) {
     CV_Assert(grey.type() == CV_8UC1 && edgeCorner.type() == CV_8UC1 && grey.size() == edgeCorner.size());
     out.create(grey.cols, grey.rows, kImprovedCensusWords);
-    cv::Mat paddedGrey, paddedEc;
-    cv::copyMakeBorder(grey, paddedGrey, kPad, kPad, kPad, kPad, cv::BORDER_REPLICATE);
-    cv::copyMakeBorder(edgeCorner, paddedEc, kPad, kPad, kPad, kPad, cv::BORDER_REPLICATE);
+    // Extra columns on the right so the last chunk of a row can load whole vectors.
+    PaddedInputs in;
+    cv::copyMakeBorder(grey, in.grey, kPad, kPad, kPad, kPad + kChunk, cv::BORDER_REPLICATE);
+    cv::copyMakeBorder(edgeCorner, in.ec, kPad, kPad, kPad, kPad + kChunk, cv::BORDER_REPLICATE);
+    in.ecHigh = in.ec * 16;
     // Window sums by box filter, minima and maxima by erosion and dilation: vectorised in OpenCV.
     cv::Mat sum7, sum9, min7, min9, max7, max9;
-    cv::boxFilter(paddedGrey, sum7, CV_32S, {7, 7}, {-1, -1}, false, cv::BORDER_REPLICATE);
-    cv::boxFilter(paddedGrey, sum9, CV_32S, {9, 9}, {-1, -1}, false, cv::BORDER_REPLICATE);
+    cv::boxFilter(in.grey, sum7, CV_32S, {7, 7}, {-1, -1}, false, cv::BORDER_REPLICATE);
+    cv::boxFilter(in.grey, sum9, CV_32S, {9, 9}, {-1, -1}, false, cv::BORDER_REPLICATE);
     const cv::Mat box7 = cv::getStructuringElement(cv::MORPH_RECT, {7, 7});
     const cv::Mat box9 = cv::getStructuringElement(cv::MORPH_RECT, {9, 9});
-    cv::erode(paddedGrey, min7, box7, {-1, -1}, 1, cv::BORDER_REPLICATE);
-    cv::erode(paddedGrey, min9, box9, {-1, -1}, 1, cv::BORDER_REPLICATE);
-    cv::dilate(paddedGrey, max7, box7, {-1, -1}, 1, cv::BORDER_REPLICATE);
-    cv::dilate(paddedGrey, max9, box9, {-1, -1}, 1, cv::BORDER_REPLICATE);
+    cv::erode(in.grey, min7, box7, {-1, -1}, 1, cv::BORDER_REPLICATE);
+    cv::erode(in.grey, min9, box9, {-1, -1}, 1, cv::BORDER_REPLICATE);
+    cv::dilate(in.grey, max7, box7, {-1, -1}, 1, cv::BORDER_REPLICATE);
+    cv::dilate(in.grey, max9, box9, {-1, -1}, 1, cv::BORDER_REPLICATE);
+    const std::vector<cv::Point> offsets7 = windowOffsets(3), offsets9 = windowOffsets(4);
     const bool both = windowMask.empty();
     forEachStripe(grey.rows, [&](int, int begin, int end) {
+        std::uint8_t hi7[kChunk], lo7[kChunk], hi9[kChunk], lo9[kChunk];
+        bool needs7[kChunk], needs9[kChunk];
+        std::uint64_t* words7[kChunk];
+        std::uint64_t* words9[kChunk];
         for (int y = begin; y < end; ++y) {
             const int py = y + kPad;
             const std::uint8_t* mask = both ? nullptr : windowMask.ptr<std::uint8_t>(y);
-            for (int x = 0; x < grey.cols; ++x) {
-                const int px = x + kPad;
-                std::uint64_t* words = out.at(x, y);
-                std::fill(words, words + kImprovedCensusWords, 0);
-                if (both || mask[x]) {
-                    const int s = sum7.at<int>(py, px) - min7.at<std::uint8_t>(py, px) - max7.at<std::uint8_t>(py, px);
-                    encodeWindow<3>(paddedGrey, paddedEc, px, py, thresholdsFor(s, 47, alpha), words + kCensus7Offset);
+            for (int x0 = 0; x0 < grey.cols; x0 += kChunk) {
+                const int count = std::min(kChunk, grey.cols - x0);
+                bool any7 = false, any9 = false;
+                for (int i = 0; i < kChunk; ++i) {
+                    const int px = std::min(x0 + i, grey.cols - 1) + kPad;
+                    const Thresholds t7 = thresholdsFor(
+                        sum7.at<int>(py, px) - min7.at<std::uint8_t>(py, px) - max7.at<std::uint8_t>(py, px), 47, alpha);
+                    const Thresholds t9 = thresholdsFor(
+                        sum9.at<int>(py, px) - min9.at<std::uint8_t>(py, px) - max9.at<std::uint8_t>(py, px), 79, alpha);
+                    hi7[i] = t7.hi;
+                    lo7[i] = t7.lo;
+                    hi9[i] = t9.hi;
+                    lo9[i] = t9.lo;
+                    if (i < count) {
+                        needs7[i] = both || mask[x0 + i] != 0;
+                        needs9[i] = both || mask[x0 + i] == 0;
+                        any7 |= needs7[i];
+                        any9 |= needs9[i];
+                        words7[i] = out.at(x0 + i, y) + kCensus7Offset;
+                        words9[i] = out.at(x0 + i, y) + kCensus9Offset;
+                    }
                 }
-                if (both || !mask[x]) {
-                    const int s = sum9.at<int>(py, px) - min9.at<std::uint8_t>(py, px) - max9.at<std::uint8_t>(py, px);
-                    encodeWindow<4>(paddedGrey, paddedEc, px, py, thresholdsFor(s, 79, alpha), words + kCensus9Offset);
+                if (any7) {
+                    encodeChunk(in, x0 + kPad, py, offsets7, hi7, lo7, needs7, count, words7);
+                } else {
+                    for (int i = 0; i < count; ++i) std::fill(words7[i], words7[i] + kCensus7Words, 0);
+                }
+                if (any9) {
+                    encodeChunk(in, x0 + kPad, py, offsets9, hi9, lo9, needs9, count, words9);
+                } else {
+                    for (int i = 0; i < count; ++i) std::fill(words9[i], words9[i] + kCensus9Words, 0);
                 }
             }
         }

@@ -47,7 +47,7 @@ struct PaperTerms {
         : census7(robustTable(4 * 48 + 1, 80.0 / 48.0, p.lambdaCensus)),  // 7x7 distances on the 9x9 scale
           census9(robustTable(4 * 80 + 1, 1.0, p.lambdaCensus)),
           ad(robustTable(3 * 255 + 1, 1.0, p.lambdaAd)),                  // C_AD: sum over R, G, B
-          gradient(robustTable(3 * 255 + 1, 1.0 / 3.0, p.lambdaGradient)),  // C_grad: mean over R, G, B
+          gradient(robustTable(3 * 255 + 1, 1.0 / (3.0 * kGradientSteps), p.lambdaGradient)),  // mean over R, G, B
           invalid(static_cast<std::uint16_t>(3 * kCostScale)) {}
 
     static constexpr bool kUsesGradient = true;

@@ -8,9 +8,10 @@
 // for every disparity of a pixel.) The directions are summed; the WTA of the sum equals that of
 // the paper's mean.
 //
-// Each direction is a set of independent lines (rows, columns or diagonals); the lines are split
-// into fixed stripes over threads. The recurrence runs 8 disparities per vector with saturating
-// 16-bit arithmetic; padded lanes hold 0xFFFF and never win a minimum.
+// The volume is swept three times: along rows (both horizontal directions, rows split over
+// stripes), then down and up (three directions each, row after row, columns split over stripes).
+// The recurrence runs 8 disparities per vector with saturating 16-bit arithmetic, fused with the
+// minimum for the next step and the sum; padded lanes hold 0xFFFF and never win a minimum.
 #include <algorithm>
 #include <cmath>
 
@@ -35,30 +36,17 @@ struct Direction {
 };
 constexpr Direction kDirections[8] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, 1}, {-1, -1}, {1, -1}, {-1, 1}};
 
-// First pixels of every line of a direction: those whose predecessor p - r is outside the image.
-std::vector<cv::Point> lineStarts(int width, int height, Direction r) {
-    std::vector<cv::Point> starts;
-    for (int y = 0; y < height; ++y)
-        for (int x = 0; x < width; ++x) {
-            const int px = x - r.dx, py = y - r.dy;
-            if (px < 0 || py < 0 || px >= width || py >= height) starts.emplace_back(x, y);
-        }
-    return starts;
-}
-
-std::uint16_t minimumOf(const std::uint16_t* values, int count) {
-    cv::v_uint16x8 m = cv::v_load(values);
-    for (int d = kLanes; d < count; d += kLanes) m = cv::v_min(m, cv::v_load(values + d));
-    return cv::v_reduce_min(m);
-}
-
-void scanlineStepVector(const std::uint16_t* cost, const std::uint16_t* previous, int stride, std::uint16_t p1,
-                        std::uint16_t p2, std::uint16_t* out) {
-    const std::uint16_t minPrevious = minimumOf(previous, stride);
+// One step of the recurrence for all disparities of a pixel, fused with the sum over directions
+// (kFirst: the sum starts here). Returns min_d of the new L, the next step's min_t L(p-r, t).
+template <bool kFirst>
+std::uint16_t stepAndAccumulate(const std::uint16_t* cost, const std::uint16_t* previous, std::uint16_t minPrevious,
+                                int stride, std::uint16_t p1, std::uint16_t p2, std::uint16_t* out,
+                                std::uint16_t* sum) {
     const cv::v_uint16x8 vMin = cv::v_setall_u16(minPrevious);
     const cv::v_uint16x8 vJump = vMin + cv::v_setall_u16(p2);  // saturating
     const cv::v_uint16x8 vP1 = cv::v_setall_u16(p1);
     const cv::v_uint16x8 none = cv::v_setall_u16(0xFFFF);
+    cv::v_uint16x8 newMin = none;
     cv::v_uint16x8 before = none;
     cv::v_uint16x8 current = cv::v_load(previous);
     for (int d = 0; d < stride; d += kLanes) {
@@ -67,47 +55,108 @@ void scanlineStepVector(const std::uint16_t* cost, const std::uint16_t* previous
         const cv::v_uint16x8 upper = cv::v_extract<1>(current, after);            // L(d+1)
         cv::v_uint16x8 m = cv::v_min(current, cv::v_min(lower + vP1, upper + vP1));
         m = cv::v_min(m, vJump);
-        cv::v_store(out + d, cv::v_load(cost + d) + (m - vMin));
+        const cv::v_uint16x8 l = cv::v_load(cost + d) + (m - vMin);
+        cv::v_store(out + d, l);
+        cv::v_store(sum + d, kFirst ? l : cv::v_load(sum + d) + l);
+        newMin = cv::v_min(newMin, l);
         before = current;
         current = after;
     }
+    return cv::v_reduce_min(newMin);
 }
 
+// The first pixel of a line: L = C.
 template <bool kFirst>
-void accumulate(std::uint16_t* sum, const std::uint16_t* l, int stride) {
+std::uint16_t startLine(const std::uint16_t* cost, int stride, std::uint16_t* out, std::uint16_t* sum) {
+    cv::v_uint16x8 newMin = cv::v_setall_u16(0xFFFF);
     for (int d = 0; d < stride; d += kLanes) {
-        cv::v_store(sum + d, kFirst ? cv::v_load(l + d) : cv::v_load(sum + d) + cv::v_load(l + d));
+        const cv::v_uint16x8 l = cv::v_load(cost + d);
+        cv::v_store(out + d, l);
+        cv::v_store(sum + d, kFirst ? l : cv::v_load(sum + d) + l);
+        newMin = cv::v_min(newMin, l);
     }
+    return cv::v_reduce_min(newMin);
 }
 
-template <bool kFirst>
-void runDirection(const CostVolume& costs, const cv::Mat& bgr, const ScanlinePenalties& penalties, Direction r,
-                  CostVolume& sum) {
-    const std::vector<cv::Point> starts = lineStarts(costs.width, costs.height, r);
-    const int stride = costs.stride;
-    forEachStripe(static_cast<int>(starts.size()), [&](int, int begin, int end) {
-        std::vector<std::uint16_t> bufferA(static_cast<std::size_t>(stride)), bufferB(static_cast<std::size_t>(stride));
-        for (int i = begin; i < end; ++i) {
-            int x = starts[static_cast<std::size_t>(i)].x, y = starts[static_cast<std::size_t>(i)].y;
-            std::uint16_t* previous = bufferA.data();
-            std::uint16_t* current = bufferB.data();
-            std::copy(costs.at(x, y), costs.at(x, y) + stride, previous);
-            accumulate<kFirst>(sum.at(x, y), previous, stride);
-            int d1 = 0;  // D_c of the previous step, which becomes this step's D2
-            for (int step = 1;; ++step) {
-                const int nx = x + r.dx, ny = y + r.dy;
-                if (nx < 0 || ny < 0 || nx >= costs.width || ny >= costs.height) break;
-                const int d2 = step == 1 ? 0 : d1;
-                d1 = colourDistance(bgr.at<cv::Vec3b>(ny, nx), bgr.at<cv::Vec3b>(y, x));
-                const int c = penaltyCase(d1, d2, penalties.tau);
-                scanlineStepVector(costs.at(nx, ny), previous, stride, penalties.p1[c], penalties.p2[c], current);
-                accumulate<kFirst>(sum.at(nx, ny), current, stride);
+int penaltyCaseAt(const cv::Mat& bgr, int x, int y, Direction r, int tau) {
+    const int px = x - r.dx, py = y - r.dy, qx = px - r.dx, qy = py - r.dy;
+    const int d1 = colourDistance(bgr.at<cv::Vec3b>(y, x), bgr.at<cv::Vec3b>(py, px));
+    const bool hasSecond = qx >= 0 && qy >= 0 && qx < bgr.cols && qy < bgr.rows;
+    const int d2 = hasSecond ? colourDistance(bgr.at<cv::Vec3b>(py, px), bgr.at<cv::Vec3b>(qy, qx)) : 0;
+    return penaltyCase(d1, d2, tau);
+}
+
+// Left-to-right and right-to-left along every row: rows are independent, split over stripes.
+// This pass starts the sum.
+void horizontalPass(const CostVolume& costs, const cv::Mat& bgr, const ScanlinePenalties& penalties, CostVolume& sum) {
+    const int width = costs.width, stride = costs.stride;
+    forEachStripe(costs.height, [&](int, int begin, int end) {
+        std::vector<std::uint16_t> buffers(static_cast<std::size_t>(2 * stride));
+        std::uint16_t* previous = buffers.data();
+        std::uint16_t* current = buffers.data() + stride;
+        for (int y = begin; y < end; ++y) {
+            std::uint16_t minimum = startLine<true>(costs.at(0, y), stride, previous, sum.at(0, y));
+            for (int x = 1; x < width; ++x) {
+                const int c = penaltyCaseAt(bgr, x, y, {1, 0}, penalties.tau);
+                minimum = stepAndAccumulate<true>(costs.at(x, y), previous, minimum, stride, penalties.p1[c],
+                                                  penalties.p2[c], current, sum.at(x, y));
                 std::swap(previous, current);
-                x = nx;
-                y = ny;
+            }
+            minimum = startLine<false>(costs.at(width - 1, y), stride, previous, sum.at(width - 1, y));
+            for (int x = width - 2; x >= 0; --x) {
+                const int c = penaltyCaseAt(bgr, x, y, {-1, 0}, penalties.tau);
+                minimum = stepAndAccumulate<false>(costs.at(x, y), previous, minimum, stride, penalties.p1[c],
+                                                   penalties.p2[c], current, sum.at(x, y));
+                std::swap(previous, current);
             }
         }
     });
+}
+
+// The three directions that go down (dy = 1) or up (dy = -1), row after row: each row depends
+// only on the previous one, so a row's columns are split over stripes. One read of the costs and
+// one update of the sum serve all three directions.
+void verticalPass(const CostVolume& costs, const cv::Mat& bgr, const ScanlinePenalties& penalties, int dy,
+                  CostVolume& sum) {
+    const int width = costs.width, height = costs.height, stride = costs.stride;
+    const Direction directions[3] = {{0, dy}, {1, dy}, {-1, dy}};
+    const auto rowSize = static_cast<std::size_t>(width) * stride;
+    std::vector<std::uint16_t> rows(6 * rowSize);  // previous and current row of L per direction
+    std::vector<std::uint16_t> minima(6 * static_cast<std::size_t>(width));
+    std::uint16_t* previous[3];
+    std::uint16_t* current[3];
+    std::uint16_t* previousMin[3];
+    std::uint16_t* currentMin[3];
+    for (int i = 0; i < 3; ++i) {
+        previous[i] = rows.data() + (2 * i) * rowSize;
+        current[i] = rows.data() + (2 * i + 1) * rowSize;
+        previousMin[i] = minima.data() + (2 * i) * static_cast<std::size_t>(width);
+        currentMin[i] = minima.data() + (2 * i + 1) * static_cast<std::size_t>(width);
+    }
+    for (int step = 0; step < height; ++step) {
+        const int y = dy > 0 ? step : height - 1 - step;
+        forEachStripe(width, [&](int, int begin, int end) {
+            for (int x = begin; x < end; ++x) {
+                for (int i = 0; i < 3; ++i) {
+                    const Direction r = directions[i];
+                    const int px = x - r.dx;
+                    std::uint16_t* out = current[i] + static_cast<std::size_t>(x) * stride;
+                    if (step == 0 || px < 0 || px >= width) {
+                        currentMin[i][x] = startLine<false>(costs.at(x, y), stride, out, sum.at(x, y));
+                    } else {
+                        const int c = penaltyCaseAt(bgr, x, y, r, penalties.tau);
+                        currentMin[i][x] = stepAndAccumulate<false>(
+                            costs.at(x, y), previous[i] + static_cast<std::size_t>(px) * stride, previousMin[i][px],
+                            stride, penalties.p1[c], penalties.p2[c], out, sum.at(x, y));
+                    }
+                }
+            }
+        });
+        for (int i = 0; i < 3; ++i) {
+            std::swap(previous[i], current[i]);
+            std::swap(previousMin[i], currentMin[i]);
+        }
+    }
 }
 
 }  // namespace
@@ -144,8 +193,10 @@ void scanlineStep(const std::uint16_t* cost, const std::uint16_t* previous, int 
 void aggregateScanlines(const CostVolume& costs, const cv::Mat& bgr, const ScanlinePenalties& penalties,
                         CostVolume& sum) {
     sum.create(costs.width, costs.height, costs.disparities);
-    runDirection<true>(costs, bgr, penalties, kDirections[0], sum);
-    for (int i = 1; i < 8; ++i) runDirection<false>(costs, bgr, penalties, kDirections[i], sum);
+    // Three sweeps over the volume instead of eight.
+    horizontalPass(costs, bgr, penalties, sum);
+    verticalPass(costs, bgr, penalties, 1, sum);
+    verticalPass(costs, bgr, penalties, -1, sum);
 }
 
 void aggregateScanlinesReference(const CostVolume& costs, const cv::Mat& bgr, const ScanlinePenalties& penalties,

@@ -85,7 +85,9 @@ inline constexpr int kCensus9Words = 5;
 
 // 1 where the 7x7 window applies (gradient magnitude > threshold), 0 for 9x9. CV_8UC1.
 cv::Mat censusWindowMask(const cv::Mat& grey, double gradientThreshold);
-// Per-pixel gradient magnitude of each colour channel, 3x3 Sobel / 8, rounded, CV_8UC3.
+// Per-pixel gradient magnitude of each colour channel, 3x3 Sobel / 8 in grey levels per pixel,
+// times kGradientSteps, rounded and saturated, CV_8UC3.
+inline constexpr int kGradientSteps = 4;
 cv::Mat channelGradientMagnitudes(const cv::Mat& bgr);
 // bit 1 = Canny edge, bit 0 = Harris corner. CV_8UC1.
 cv::Mat edgeCornerBits(const cv::Mat& grey, const Parameters& parameters);
