@@ -42,6 +42,7 @@ void readCamera(Section s, CameraConfig& camera) {
 }
 
 void readStereo(Section s, stereo::Parameters& p) {
+    s.read("impulse_threshold", p.impulseThreshold, 0, 255);
     s.read("census_gradient_threshold", p.censusGradientThreshold, 0.0, 1000.0);
     s.read("census_alpha", p.censusAlpha, 0, 64);
     s.read("canny_low_threshold", p.cannyLowThreshold, 0.0, 10000.0);

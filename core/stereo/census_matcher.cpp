@@ -15,7 +15,8 @@ CensusMatcher::CensusMatcher(Method method, const Parameters& parameters)
 
 cv::Mat CensusMatcher::compute(const cv::Mat& left, const cv::Mat& right, int maxDisparity) {
     const Parameters& p = parameters_;
-    // 0. Colour and grey versions of both eyes (grey input is matched as colour with R = G = B).
+    // 0. Colour and grey versions of both eyes (grey input is matched as colour with R = G = B);
+    //    impulse noise repaired.
     cv::Mat bgrLeft = left, bgrRight = right, greyLeft = left, greyRight = right;
     if (left.channels() == 1) {
         cv::cvtColor(left, bgrLeft, cv::COLOR_GRAY2BGR);
@@ -23,6 +24,15 @@ cv::Mat CensusMatcher::compute(const cv::Mat& left, const cv::Mat& right, int ma
     } else {
         cv::cvtColor(left, greyLeft, cv::COLOR_BGR2GRAY);
         cv::cvtColor(right, greyRight, cv::COLOR_BGR2GRAY);
+    }
+    if (p.impulseThreshold > 0) {
+        // Copies first: the caller's images are not ours to change.
+        bgrLeft = bgrLeft.clone();
+        bgrRight = bgrRight.clone();
+        greyLeft = greyLeft.clone();
+        greyRight = greyRight.clone();
+        removeImpulses(bgrLeft, greyLeft, p.impulseThreshold);
+        removeImpulses(bgrRight, greyRight, p.impulseThreshold);
     }
     costs_.create(left.cols, left.rows, maxDisparity);
 

@@ -73,6 +73,12 @@ void forEachStripe(int count, const F& fn) {
     }, kStripes);
 }
 
+// ---- impulse_filter.cpp -----------------------------------------------------------------------
+// Switching median: a pixel whose grey value differs from its 3x3 median by more than threshold
+// (an impulse: a dead, hot or bit-flipped pixel) takes the median colour; all others are kept.
+// bgr CV_8UC3 and its grey version, both filtered in place. Returns the number replaced.
+int removeImpulses(cv::Mat& bgr, cv::Mat& grey, int threshold);
+
 // ---- census.cpp -------------------------------------------------------------------------------
 // Improved Census (Paper): per neighbour a four-bit nibble [brighter, darker, edge, corner], 16
 // nibbles per word, neighbours in row-major window order without the centre. Words 0-2 hold the

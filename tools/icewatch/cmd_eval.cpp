@@ -23,7 +23,22 @@ struct EvalOptions {
     std::uint64_t seed = 1;
     double threshold = 1.0;
     bool json = false;
+    std::string badMap;
 };
+
+// The left image, darkened, with the evaluated pixels that count as bad in red.
+cv::Mat badPixelPicture(const cv::Mat& left, const cv::Mat& disparity, const cv::Mat& gt, double gtScale,
+                        const cv::Mat& mask, double threshold) {
+    cv::Mat picture = left * 0.5;
+    for (int y = 0; y < picture.rows; ++y)
+        for (int x = 0; x < picture.cols; ++x) {
+            const std::uint8_t g = gt.at<std::uint8_t>(y, x);
+            if (g == 0 || (!mask.empty() && mask.at<std::uint8_t>(y, x) != 255)) continue;
+            const float d = disparity.at<float>(y, x);
+            if (d < 0.0f || std::abs(d - g / gtScale) > threshold) picture.at<cv::Vec3b>(y, x) = {0, 0, 255};
+        }
+    return picture;
+}
 
 }  // namespace
 
@@ -38,6 +53,7 @@ void addEvalCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction&
     command->add_option("--seed", o->seed, "noise seed (the right image uses the next one)");
     command->add_option("--threshold", o->threshold, "bad when |d - gt| exceeds this (px)")->check(CLI::NonNegativeNumber);
     command->add_flag("--json", o->json, "print one JSON object");
+    command->add_option("--bad-map", o->badMap, "write a picture of the bad pixels (PNG)");
     command->callback([&run, o] {
         run = [o] {
             const stereo::NoiseSpec noise = stereo::parseNoise(o->noise);
@@ -52,6 +68,10 @@ void addEvalCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction&
             const cv::Mat disparity = matcher.compute(left, right, o->stereo.maxDisparity);
             const double matchMs = nowMs() - start;
             const stereo::DisparityScore score = stereo::scoreDisparity(disparity, gt, o->gtScale, mask, o->threshold);
+            if (!o->badMap.empty() &&
+                !cv::imwrite(o->badMap, badPixelPicture(left, disparity, gt, o->gtScale, mask, o->threshold))) {
+                throw Error(kExitCantCreate, o->badMap + ": cannot write the picture");
+            }
             const nlohmann::json result{{"bad_percent", score.badPercent},   {"valid_percent", score.validPercent},
                                         {"match_ms", matchMs},               {"method", o->stereo.method},
                                         {"noise", noise.text},               {"seed", o->seed},

@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <opencv2/imgproc.hpp>
+
 #include "core/stereo/matcher.hpp"
 #include "core/stereo/stages.hpp"
 
@@ -108,6 +110,23 @@ TEST(Subpixel, EquiangularFit) {
     EXPECT_EQ(refined.at<float>(0, 0), kInvalidDisparity);
     EXPECT_FLOAT_EQ(refined.at<float>(0, 5), 2.25f);
     EXPECT_FLOAT_EQ(refined.at<float>(0, 1), 0.0f);  // d = 0 has no left neighbour: stays integer
+}
+
+TEST(ImpulseFilter, RepairsOnlyImpulses) {
+    // A vertical ramp (a clean structure that must survive) with one white and one black impulse.
+    cv::Mat bgr(7, 7, CV_8UC3);
+    for (int y = 0; y < 7; ++y) bgr.row(y).setTo(cv::Scalar::all(100 + 10 * y));
+    bgr.at<cv::Vec3b>(2, 2) = {255, 255, 255};
+    bgr.at<cv::Vec3b>(4, 5) = {0, 0, 0};
+    cv::Mat grey;
+    cv::cvtColor(bgr, grey, cv::COLOR_BGR2GRAY);
+    const cv::Mat clean = bgr.clone();
+    EXPECT_EQ(removeImpulses(bgr, grey, 40), 2);
+    EXPECT_EQ(bgr.at<cv::Vec3b>(2, 2), cv::Vec3b::all(120));
+    EXPECT_EQ(bgr.at<cv::Vec3b>(4, 5), cv::Vec3b::all(140));
+    EXPECT_EQ(grey.at<std::uint8_t>(2, 2), 120);
+    EXPECT_EQ(bgr.at<cv::Vec3b>(3, 3), clean.at<cv::Vec3b>(3, 3));  // the ramp is untouched
+    EXPECT_EQ(removeImpulses(bgr, grey, 40), 0);
 }
 
 }  // namespace
