@@ -12,9 +12,19 @@ cv::Mat greyRow(const std::vector<int>& values) {
     return row;
 }
 
+// Mei's values, which the expectations below are worked out for.
+Parameters meiArms() {
+    Parameters p;
+    p.crossTau1 = 20;
+    p.crossTau2 = 6;
+    p.crossL1 = 34;
+    p.crossL2 = 17;
+    return p;
+}
+
 int rightArm(const std::vector<int>& values) {
     CrossArms arms;
-    computeCrossArms(greyRow(values), Parameters{}, arms);
+    computeCrossArms(greyRow(values), meiArms(), arms);
     return arms.right.at<std::uint8_t>(0, 0);
 }
 
@@ -37,7 +47,7 @@ TEST(CrossArms, DrawnRegion) {
     cv::Mat image(12, 16, CV_8UC3, cv::Scalar::all(0));
     image(cv::Rect(5, 4, 6, 4)).setTo(cv::Scalar::all(255));
     CrossArms arms;
-    computeCrossArms(image, Parameters{}, arms);
+    computeCrossArms(image, meiArms(), arms);
     EXPECT_EQ(arms.left.at<std::uint8_t>(5, 7), 2);
     EXPECT_EQ(arms.right.at<std::uint8_t>(5, 7), 3);
     EXPECT_EQ(arms.up.at<std::uint8_t>(5, 7), 1);
