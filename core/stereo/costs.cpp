@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <type_traits>
 
 #include <opencv2/core/hal/intrin.hpp>
 
@@ -171,9 +172,17 @@ void costOptimised(const Terms& terms, const CostInputs& left, const CostInputs&
                 const bool use7 = mask && mask[x] != 0;
                 const int words = right.census->words;
                 std::uint16_t* cell = out.at(x, y);
-                for (int d = 0; d < valid; ++d) {
-                    cell[d] = terms.cost(l, r - d * words, use7, adSums[static_cast<std::size_t>(d)],
-                                         Terms::kUsesGradient ? gradSums[static_cast<std::size_t>(d)] : 0);
+                // The window choice is fixed per pixel: one loop each, no branch per disparity.
+                auto fill = [&](auto window) {
+                    for (int d = 0; d < valid; ++d) {
+                        cell[d] = terms.cost(l, r - d * words, decltype(window)::value, adSums[static_cast<std::size_t>(d)],
+                                             Terms::kUsesGradient ? gradSums[static_cast<std::size_t>(d)] : 0);
+                    }
+                };
+                if (use7) {
+                    fill(std::true_type{});
+                } else {
+                    fill(std::false_type{});
                 }
                 std::fill(cell + valid, cell + disparities, terms.invalid);
                 std::fill(cell + disparities, cell + out.stride, kPadCost);

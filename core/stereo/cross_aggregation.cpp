@@ -26,7 +26,7 @@ int colourDistance(const cv::Vec3b& a, const cv::Vec3b& b) {
 
 namespace {
 
-// Length of the arm from (x, y) in direction (dx, dy).
+// Length of the arm from (x, y) in direction (dx, dy): the plain definition.
 int armLength(const cv::Mat& bgr, int x, int y, int dx, int dy, const Parameters& p) {
     const cv::Vec3b& centre = bgr.at<cv::Vec3b>(y, x);
     int length = 0;
@@ -41,6 +41,28 @@ int armLength(const cv::Mat& bgr, int x, int y, int dx, int dy, const Parameters
         length = k;
     }
     return length;
+}
+
+inline int maxAbsDiff3(const std::uint8_t* a, const std::uint8_t* b) {
+    const int d0 = std::abs(a[0] - b[0]), d1 = std::abs(a[1] - b[1]), d2 = std::abs(a[2] - b[2]);
+    return std::max(d0, std::max(d1, d2));
+}
+
+// The same with raw pointers: `step` bytes between neighbours along the arm, `room` pixels until
+// the image border.
+int armLengthFast(const std::uint8_t* centre, std::ptrdiff_t step, int room, const Parameters& p) {
+    const int limit = std::min(p.crossL1 - 1, room);
+    const std::uint8_t* previous = centre;
+    for (int k = 1; k <= limit; ++k) {
+        const std::uint8_t* q = previous + step;
+        const int toCentre = maxAbsDiff3(q, centre);
+        if (toCentre >= p.crossTau1 || maxAbsDiff3(q, previous) >= p.crossTau1 ||
+            (k > p.crossL2 && toCentre >= p.crossTau2)) {
+            return k - 1;
+        }
+        previous = q;
+    }
+    return limit;
 }
 
 std::uint16_t roundedMean(std::uint32_t sum, float inverseCount) {
@@ -70,15 +92,32 @@ void restorePadding(CostVolume& volume) {
 void computeCrossArms(const cv::Mat& bgr, const Parameters& parameters, CrossArms& arms) {
     CV_Assert(bgr.type() == CV_8UC3);
     for (cv::Mat* m : {&arms.left, &arms.right, &arms.up, &arms.down}) m->create(bgr.size(), CV_8UC1);
+    const auto rowStep = static_cast<std::ptrdiff_t>(bgr.step[0]);
     forEachStripe(bgr.rows, [&](int, int begin, int end) {
-        for (int y = begin; y < end; ++y)
+        for (int y = begin; y < end; ++y) {
+            const std::uint8_t* row = bgr.ptr<std::uint8_t>(y);
             for (int x = 0; x < bgr.cols; ++x) {
-                arms.left.at<std::uint8_t>(y, x) = static_cast<std::uint8_t>(armLength(bgr, x, y, -1, 0, parameters));
-                arms.right.at<std::uint8_t>(y, x) = static_cast<std::uint8_t>(armLength(bgr, x, y, 1, 0, parameters));
-                arms.up.at<std::uint8_t>(y, x) = static_cast<std::uint8_t>(armLength(bgr, x, y, 0, -1, parameters));
-                arms.down.at<std::uint8_t>(y, x) = static_cast<std::uint8_t>(armLength(bgr, x, y, 0, 1, parameters));
+                const std::uint8_t* centre = row + 3 * x;
+                arms.left.at<std::uint8_t>(y, x) = static_cast<std::uint8_t>(armLengthFast(centre, -3, x, parameters));
+                arms.right.at<std::uint8_t>(y, x) =
+                    static_cast<std::uint8_t>(armLengthFast(centre, 3, bgr.cols - 1 - x, parameters));
+                arms.up.at<std::uint8_t>(y, x) = static_cast<std::uint8_t>(armLengthFast(centre, -rowStep, y, parameters));
+                arms.down.at<std::uint8_t>(y, x) =
+                    static_cast<std::uint8_t>(armLengthFast(centre, rowStep, bgr.rows - 1 - y, parameters));
             }
+        }
     });
+}
+
+void computeCrossArmsReference(const cv::Mat& bgr, const Parameters& parameters, CrossArms& arms) {
+    for (cv::Mat* m : {&arms.left, &arms.right, &arms.up, &arms.down}) m->create(bgr.size(), CV_8UC1);
+    for (int y = 0; y < bgr.rows; ++y)
+        for (int x = 0; x < bgr.cols; ++x) {
+            arms.left.at<std::uint8_t>(y, x) = static_cast<std::uint8_t>(armLength(bgr, x, y, -1, 0, parameters));
+            arms.right.at<std::uint8_t>(y, x) = static_cast<std::uint8_t>(armLength(bgr, x, y, 1, 0, parameters));
+            arms.up.at<std::uint8_t>(y, x) = static_cast<std::uint8_t>(armLength(bgr, x, y, 0, -1, parameters));
+            arms.down.at<std::uint8_t>(y, x) = static_cast<std::uint8_t>(armLength(bgr, x, y, 0, 1, parameters));
+        }
 }
 
 void aggregateCross(const CrossArms& arms, int iterations, CostVolume& costs, CostVolume& scratch) {

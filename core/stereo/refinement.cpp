@@ -221,7 +221,9 @@ void refineSubpixelByIntensity(const cv::Mat& greyLeft, const cv::Mat& greyRight
                     }
                     const float covEG = sumEG - sumE * sumG / count;
                     // I_L(x) = I_R(x - d - δ) ≈ I_R - δ g: the residual e = -δ g.
-                    d -= covEG / varG;
+                    const float step = covEG / varG;
+                    d -= step;
+                    if (std::abs(step) < 0.005f) break;  // converged far below any use of it
                 }
                 if (ok && std::abs(d - start) <= maxChange) out[x] = d;
             }

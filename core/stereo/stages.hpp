@@ -127,6 +127,7 @@ void adCensusCostReference(const CostInputs& left, const CostInputs& right, cons
 // D_c: the largest absolute difference over the colour channels.
 int colourDistance(const cv::Vec3b& a, const cv::Vec3b& b);
 void computeCrossArms(const cv::Mat& bgr, const Parameters& parameters, CrossArms& arms);
+void computeCrossArmsReference(const cv::Mat& bgr, const Parameters& parameters, CrossArms& arms);
 // `iterations` times: horizontal-arm sums, then the vertical-arm sum of those over the region,
 // divided by the region's pixel count. Result back in costs; scratch is a second volume.
 void aggregateCross(const CrossArms& arms, int iterations, CostVolume& costs, CostVolume& scratch);

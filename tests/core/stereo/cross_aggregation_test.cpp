@@ -56,6 +56,19 @@ TEST(CrossArms, DrawnRegion) {
     EXPECT_EQ(arms.right.at<std::uint8_t>(0, 0), 15);
 }
 
+TEST(CrossArms, OptimisedEqualsReference) {
+    const cv::Mat image = test::randomImage(631, 479, CV_8UC3, 8);
+    for (const Parameters& p : {Parameters{}, meiArms()}) {
+        CrossArms fast, plain;
+        computeCrossArms(image, p, fast);
+        computeCrossArmsReference(image, p, plain);
+        for (auto [a, b] : {std::pair{&fast.left, &plain.left}, {&fast.right, &plain.right}, {&fast.up, &plain.up},
+                            {&fast.down, &plain.down}}) {
+            EXPECT_EQ(cv::norm(*a, *b, cv::NORM_INF), 0.0);
+        }
+    }
+}
+
 TEST(CrossAggregation, RegionMeanOverAFlatImage) {
     // Uniform colour: every region is the whole 5x5 image, so one cost of 2500 averages to 100.
     const cv::Mat image(5, 5, CV_8UC3, cv::Scalar::all(80));
