@@ -89,6 +89,48 @@ void readVolume(Section s, volume::Parameters& v) {
     s.finish();
 }
 
+void readStereo(Section s, stereo::Parameters& p) {
+    s.read("impulse_threshold", p.impulseThreshold, 0, 255);
+    s.read("census_gradient_threshold", p.censusGradientThreshold, 0.0, 1000.0);
+    s.read("census_alpha", p.censusAlpha, 0, 64);
+    s.read("canny_low_threshold", p.cannyLowThreshold, 0.0, 10000.0);
+    s.read("canny_high_threshold", p.cannyHighThreshold, 0.0, 10000.0);
+    if (p.cannyHighThreshold < p.cannyLowThreshold) {
+        s.fail("canny_high_threshold", "must not be below canny_low_threshold");
+    }
+    s.read("harris_threshold", p.harrisThreshold, 0.0, 1.0);
+    s.read("lambda_census", p.lambdaCensus, 0.01, 1000.0);
+    s.read("lambda_ad", p.lambdaAd, 0.01, 1000.0);
+    s.read("lambda_gradient", p.lambdaGradient, 0.01, 1000.0);
+    s.read("mei_lambda_census", p.meiLambdaCensus, 0.01, 1000.0);
+    s.read("mei_lambda_ad", p.meiLambdaAd, 0.01, 1000.0);
+    s.read("cross_tau1", p.crossTau1, 1, 255);
+    s.read("cross_tau2", p.crossTau2, 1, 255);
+    s.read("cross_l1", p.crossL1, 1, 127);
+    s.read("cross_l2", p.crossL2, 1, 127);
+    if (p.crossTau2 > p.crossTau1) s.fail("cross_tau2", "must not exceed cross_tau1");
+    if (p.crossL2 > p.crossL1) s.fail("cross_l2", "must not exceed cross_l1");
+    s.read("cross_iterations", p.crossIterations, 0, 8);
+    // Π2 <= 10 keeps the 16-bit sum of 8 scanline directions from saturating.
+    s.read("scanline_pi1", p.scanlinePi1, 0.0, 10.0);
+    s.read("scanline_pi2", p.scanlinePi2, 0.0, 10.0);
+    if (p.scanlinePi2 < p.scanlinePi1) s.fail("scanline_pi2", "must not be below scanline_pi1");
+    s.read("scanline_tau", p.scanlineTau, 0, 255);
+    s.read("lr_max_difference", p.lrMaxDifference, 0, 16);
+    s.read("voting_iterations", p.votingIterations, 0, 20);
+    s.read("voting_min_count", p.votingMinCount, 0, 100000);
+    s.read("voting_min_ratio", p.votingMinRatio, 0.0, 1.0);
+    s.read("subpixel_intensity_refinement", p.subpixelIntensityRefinement);
+    s.read("subpixel_window_radius", p.subpixelWindowRadius, 1, 7);
+    s.read("subpixel_iterations", p.subpixelIterations, 1, 10);
+    s.read("subpixel_max_change", p.subpixelMaxChange, 0.0, 2.0);
+    s.read("median_filter", p.medianFilter);
+    s.read("sgbm_block_size", p.sgbmBlockSize, 1, 11);
+    if (p.sgbmBlockSize % 2 == 0) s.fail("sgbm_block_size", "must be odd");
+    s.read("sgbm_fill_holes", p.sgbmFillHoles);
+    s.finish();
+}
+
 }  // namespace
 
 Config parseConfig(std::string_view text, const std::string& fileName) {
@@ -108,6 +150,7 @@ Config parseConfig(std::string_view text, const std::string& fileName) {
     readCamera(top.child("camera"), config.camera);
     readCalibration(top.child("calibration"), config.calibration);
     readVolume(top.child("volume"), config.volume);
+    readStereo(top.child("stereo"), config.stereo);
     top.finish();
     return config;
 }

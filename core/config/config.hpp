@@ -7,6 +7,7 @@
 #include <string_view>
 
 #include "core/volume/parameters.hpp"
+#include "core/stereo/parameters.hpp"
 
 namespace icewatch::config {
 
@@ -46,6 +47,7 @@ struct Config {
     CameraConfig camera;
     CalibrationConfig calibration;
     volume::Parameters volume;  // the "volume" section: every tunable of the volume chain
+    stereo::Parameters stereo;  // the matcher's parameters (core/stereo/parameters.hpp documents them)
 };
 
 // Parses and validates a whole configuration; fileName is only used in messages. JSON with //

@@ -4,6 +4,7 @@
 #include <opencv2/calib3d.hpp>
 
 #include "core/common/error.hpp"
+#include "core/stereo/census_matcher.hpp"
 #include "core/stereo/sgbm_matcher.hpp"
 
 namespace icewatch::stereo {
@@ -47,10 +48,11 @@ struct Matcher::Impl {
     Method method;
     Parameters parameters;
     SgbmMatcher sgbm;
+    CensusMatcher census;
 };
 
 Matcher::Matcher(Method method, const Parameters& parameters)
-    : impl_(std::make_unique<Impl>(Impl{method, parameters, SgbmMatcher(parameters)})) {}
+    : impl_(std::make_unique<Impl>(Impl{method, parameters, SgbmMatcher(parameters), CensusMatcher(method, parameters)})) {}
 
 Matcher::~Matcher() = default;
 Matcher::Matcher(Matcher&&) noexcept = default;
@@ -63,9 +65,9 @@ cv::Mat Matcher::compute(const cv::Mat& left, const cv::Mat& right, int maxDispa
             return impl_->sgbm.compute(left, right, maxDisparity);
         case Method::Paper:
         case Method::AdCensus:
-            break;
+            return impl_->census.compute(left, right, maxDisparity);
     }
-    throw Error(kExitUsage, "stereo method \"" + methodName(impl_->method) + "\" is not available in this build");
+    throw Error(kExitSoftware, "stereo method \"" + methodName(impl_->method) + "\" is not available");
 }
 
 Method Matcher::method() const { return impl_->method; }

@@ -27,6 +27,9 @@ int main(int argc, char** argv) {
     cli::addAcquireCommand(app, global, run);
     cli::addSynthCommand(app, global, run);
     cli::addVolumeCommand(app, global, run);
+    cli::addMatchCommand(app, global, run);
+    cli::addEvalCommand(app, global, run);
+    cli::addBenchCommand(app, global, run);
 
     try {
         app.parse(argc, argv);

@@ -42,6 +42,38 @@ TEST(Config, ShippedFileDocumentsTheDefaults) {
     EXPECT_EQ(shipped.camera.reconnectMinMs, defaults.camera.reconnectMinMs);
     EXPECT_EQ(shipped.camera.reconnectMaxMs, defaults.camera.reconnectMaxMs);
     EXPECT_EQ(shipped.log.level, defaults.log.level);
+    const stereo::Parameters& a = shipped.stereo;
+    const stereo::Parameters& b = defaults.stereo;
+    EXPECT_EQ(a.impulseThreshold, b.impulseThreshold);
+    EXPECT_EQ(a.censusGradientThreshold, b.censusGradientThreshold);
+    EXPECT_EQ(a.censusAlpha, b.censusAlpha);
+    EXPECT_EQ(a.cannyLowThreshold, b.cannyLowThreshold);
+    EXPECT_EQ(a.cannyHighThreshold, b.cannyHighThreshold);
+    EXPECT_EQ(a.harrisThreshold, b.harrisThreshold);
+    EXPECT_EQ(a.lambdaCensus, b.lambdaCensus);
+    EXPECT_EQ(a.lambdaAd, b.lambdaAd);
+    EXPECT_EQ(a.lambdaGradient, b.lambdaGradient);
+    EXPECT_EQ(a.meiLambdaCensus, b.meiLambdaCensus);
+    EXPECT_EQ(a.meiLambdaAd, b.meiLambdaAd);
+    EXPECT_EQ(a.crossTau1, b.crossTau1);
+    EXPECT_EQ(a.crossTau2, b.crossTau2);
+    EXPECT_EQ(a.crossL1, b.crossL1);
+    EXPECT_EQ(a.crossL2, b.crossL2);
+    EXPECT_EQ(a.crossIterations, b.crossIterations);
+    EXPECT_EQ(a.scanlinePi1, b.scanlinePi1);
+    EXPECT_EQ(a.scanlinePi2, b.scanlinePi2);
+    EXPECT_EQ(a.scanlineTau, b.scanlineTau);
+    EXPECT_EQ(a.lrMaxDifference, b.lrMaxDifference);
+    EXPECT_EQ(a.votingIterations, b.votingIterations);
+    EXPECT_EQ(a.votingMinCount, b.votingMinCount);
+    EXPECT_EQ(a.votingMinRatio, b.votingMinRatio);
+    EXPECT_EQ(a.subpixelIntensityRefinement, b.subpixelIntensityRefinement);
+    EXPECT_EQ(a.subpixelWindowRadius, b.subpixelWindowRadius);
+    EXPECT_EQ(a.subpixelIterations, b.subpixelIterations);
+    EXPECT_EQ(a.subpixelMaxChange, b.subpixelMaxChange);
+    EXPECT_EQ(a.medianFilter, b.medianFilter);
+    EXPECT_EQ(a.sgbmBlockSize, b.sgbmBlockSize);
+    EXPECT_EQ(a.sgbmFillHoles, b.sgbmFillHoles);
     EXPECT_EQ(shipped.calibration.file, defaults.calibration.file);
     const volume::Parameters &v = shipped.volume, &d = defaults.volume;
     EXPECT_EQ(v.stereoMethod, d.stereoMethod);
@@ -91,6 +123,19 @@ TEST(Config, CalibrationFile) {
               "/srv/box7.yaml");
     EXPECT_EQ(errorOf(R"({"calibration": {"file": ""}})"), "test.json: calibration.file: must not be empty");
     EXPECT_EQ(errorOf(R"({"calibration": {"path": "x"}})"), "test.json: calibration.path: unknown key");
+}
+
+TEST(Config, StereoSectionIsReadAndChecked) {
+    const Config c = parseConfig(R"({"stereo": {"census_alpha": 2, "scanline_pi2": 4.5, "median_filter": false}})",
+                                 "test.json");
+    EXPECT_EQ(c.stereo.censusAlpha, 2);
+    EXPECT_EQ(c.stereo.scanlinePi2, 4.5);
+    EXPECT_FALSE(c.stereo.medianFilter);
+    EXPECT_EQ(errorOf(R"({"stereo": {"scanline_pi2": 11}})"),
+              "test.json: stereo.scanline_pi2: must be between 0.0 and 10.0, got 11");
+    EXPECT_EQ(errorOf(R"({"stereo": {"cross_tau2": 30}})"), "test.json: stereo.cross_tau2: must not exceed cross_tau1");
+    EXPECT_EQ(errorOf(R"({"stereo": {"sgbm_block_size": 4}})"), "test.json: stereo.sgbm_block_size: must be odd");
+    EXPECT_EQ(errorOf(R"({"stereo": {"alpha": 2}})"), "test.json: stereo.alpha: unknown key");
 }
 
 TEST(Config, ReadsValuesAndComments) {

@@ -1,0 +1,29 @@
+#pragma once
+
+#include <opencv2/core.hpp>
+
+#include "core/stereo/matcher.hpp"
+#include "core/stereo/parameters.hpp"
+#include "core/stereo/stages.hpp"
+
+namespace icewatch::stereo {
+
+// The Census-based methods, Paper (Wei et al. 2025) and AdCensus (Mei et al. 2011): the same
+// stages with a different matching cost. Owns its scratch, allocated once per image size.
+class CensusMatcher {
+public:
+    CensusMatcher(Method method, const Parameters& parameters);
+    // Inputs already validated (matcher.cpp).
+    cv::Mat compute(const cv::Mat& left, const cv::Mat& right, int maxDisparity);
+
+private:
+    Method method_;
+    Parameters parameters_;
+    detail::CostVolume costs_;
+    detail::CostVolume scratch_;
+    detail::CensusImage leftCensus_;
+    detail::CensusImage rightCensus_;
+    detail::CrossArms arms_;
+};
+
+}  // namespace icewatch::stereo

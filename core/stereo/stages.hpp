@@ -1,0 +1,181 @@
+#pragma once
+// The stages of the Census-based matchers (Paper and AdCensus), one .cpp per stage. Internal to
+// core/stereo: the public interface is matcher.hpp. Every optimised kernel has a plain
+// *Reference twin computing the same integers; tests compare the two exactly.
+
+#include <cstdint>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "core/stereo/parameters.hpp"
+
+namespace icewatch::stereo::detail {
+
+// Costs are 16-bit fixed point: 1.0 of a fused cost term is kCostScale. The scanline sum of 8
+// directions stays below 65536 as long as cost + P2 <= 8191 (the config limits Pi2 for that).
+inline constexpr int kCostScale = 512;
+// The disparity axis is padded to a multiple of the 128-bit vector's 16-bit lanes; padded cells
+// hold kPadCost so they never win a minimum.
+inline constexpr int kDisparityAlign = 8;
+inline constexpr std::uint16_t kPadCost = 0xFFFF;
+// Work is split into this many stripes whatever the core count, so results never depend on it.
+inline constexpr int kStripes = 16;
+
+inline int paddedDisparities(int disparities) {
+    return (disparities + kDisparityAlign - 1) / kDisparityAlign * kDisparityAlign;
+}
+
+// cost(x, y, d) at data[(y * width + x) * stride + d]; stride = paddedDisparities(disparities).
+struct CostVolume {
+    int width = 0;
+    int height = 0;
+    int disparities = 0;
+    int stride = 0;
+    std::vector<std::uint16_t> data;
+
+    // Allocates only when the size changes (one allocation per image size).
+    void create(int w, int h, int d);
+    std::uint16_t* at(int x, int y) { return data.data() + (static_cast<std::size_t>(y) * width + x) * stride; }
+    const std::uint16_t* at(int x, int y) const {
+        return data.data() + (static_cast<std::size_t>(y) * width + x) * stride;
+    }
+};
+
+// Per-pixel Census bit strings, `words` 64-bit words per pixel.
+struct CensusImage {
+    int width = 0;
+    int height = 0;
+    int words = 0;
+    std::vector<std::uint64_t> data;
+
+    void create(int w, int h, int wordsPerPixel);
+    std::uint64_t* at(int x, int y) { return data.data() + (static_cast<std::size_t>(y) * width + x) * words; }
+    const std::uint64_t* at(int x, int y) const {
+        return data.data() + (static_cast<std::size_t>(y) * width + x) * words;
+    }
+};
+
+// Arm lengths (pixels, not counting p itself) of each pixel's cross.
+struct CrossArms {
+    cv::Mat left, right, up, down;  // CV_8UC1
+};
+
+// Runs fn(begin, end) over kStripes fixed slices of [0, count), in parallel.
+template <class F>
+void forEachStripe(int count, const F& fn) {
+    cv::parallel_for_(cv::Range(0, kStripes), [&](const cv::Range& r) {
+        for (int s = r.start; s < r.end; ++s) {
+            const int begin = static_cast<int>(static_cast<long long>(count) * s / kStripes);
+            const int end = static_cast<int>(static_cast<long long>(count) * (s + 1) / kStripes);
+            if (begin < end) fn(s, begin, end);
+        }
+    }, kStripes);
+}
+
+// ---- impulse_filter.cpp -----------------------------------------------------------------------
+// Switching median: a pixel whose grey value differs from its 3x3 median by more than threshold
+// (an impulse: a dead, hot or bit-flipped pixel) takes the median colour; all others are kept.
+// bgr CV_8UC3 and its grey version, both filtered in place. Returns the number replaced.
+int removeImpulses(cv::Mat& bgr, cv::Mat& grey, int threshold);
+
+// ---- census.cpp -------------------------------------------------------------------------------
+// Improved Census (Paper): per neighbour a four-bit nibble [brighter, darker, edge, corner], 16
+// nibbles per word, neighbours in row-major window order without the centre. Words 0-2 hold the
+// 7x7 code (48 neighbours), words 3-7 the 9x9 code (80 neighbours).
+inline constexpr int kImprovedCensusWords = 8;
+inline constexpr int kCensus7Offset = 0;
+inline constexpr int kCensus7Words = 3;
+inline constexpr int kCensus9Offset = 3;
+inline constexpr int kCensus9Words = 5;
+
+// 1 where the 7x7 window applies (gradient magnitude > threshold), 0 for 9x9. CV_8UC1.
+cv::Mat censusWindowMask(const cv::Mat& grey, double gradientThreshold);
+// Per-pixel gradient magnitude of each colour channel, 3x3 Sobel / 8 in grey levels per pixel,
+// times kGradientSteps, rounded and saturated, CV_8UC3.
+inline constexpr int kGradientSteps = 4;
+cv::Mat channelGradientMagnitudes(const cv::Mat& bgr);
+// bit 1 = Canny edge, bit 0 = Harris corner. CV_8UC1.
+cv::Mat edgeCornerBits(const cv::Mat& grey, const Parameters& parameters);
+// windowMask: which code each pixel needs (1 = 7x7, 0 = 9x9); empty computes both codes (the
+// right image, whose pixels are compared with left pixels of either window).
+void improvedCensus(const cv::Mat& grey, const cv::Mat& edgeCorner, int alpha, const cv::Mat& windowMask,
+                    CensusImage& out);
+void improvedCensusReference(const cv::Mat& grey, const cv::Mat& edgeCorner, int alpha,
+                             const cv::Mat& windowMask, CensusImage& out);
+// Mei's Census: 9x7 window on grey, 1 bit per neighbour (neighbour < centre), one word.
+void meiCensus(const cv::Mat& grey, CensusImage& out);
+
+// ---- costs.cpp --------------------------------------------------------------------------------
+// What the cost stage needs of one image.
+struct CostInputs {
+    cv::Mat bgr;          // CV_8UC3
+    cv::Mat gradient;     // CV_8UC3 (Paper only)
+    cv::Mat windowMask;   // CV_8UC1 (Paper, left image only)
+    const CensusImage* census = nullptr;
+};
+// Paper: C = (1 - exp(-C_cen/λcen)) + (1 - exp(-C_AD/λAD)) + (1 - exp(-C_grad/λgrad)).
+void paperCost(const CostInputs& left, const CostInputs& right, const Parameters& parameters, CostVolume& out);
+void paperCostReference(const CostInputs& left, const CostInputs& right, const Parameters& parameters,
+                        CostVolume& out);
+// Mei: C = (1 - exp(-C_census/λcensus)) + (1 - exp(-C_AD/λAD)), C_AD the mean over R,G,B.
+void adCensusCost(const CostInputs& left, const CostInputs& right, const Parameters& parameters, CostVolume& out);
+void adCensusCostReference(const CostInputs& left, const CostInputs& right, const Parameters& parameters,
+                           CostVolume& out);
+
+// ---- cross_aggregation.cpp --------------------------------------------------------------------
+// D_c: the largest absolute difference over the colour channels.
+int colourDistance(const cv::Vec3b& a, const cv::Vec3b& b);
+void computeCrossArms(const cv::Mat& bgr, const Parameters& parameters, CrossArms& arms);
+void computeCrossArmsReference(const cv::Mat& bgr, const Parameters& parameters, CrossArms& arms);
+// `iterations` times: horizontal-arm sums, then the vertical-arm sum of those over the region,
+// divided by the region's pixel count. Result back in costs; scratch is a second volume.
+void aggregateCross(const CrossArms& arms, int iterations, CostVolume& costs, CostVolume& scratch);
+void aggregateCrossReference(const CrossArms& arms, int iterations, CostVolume& costs);
+
+// ---- scanline_optimisation.cpp ----------------------------------------------------------------
+struct ScanlinePenalties {
+    std::uint16_t p1[3];  // both colour differences < tau, exactly one, neither
+    std::uint16_t p2[3];
+    int tau = 0;
+};
+ScanlinePenalties scanlinePenalties(const Parameters& parameters);
+// Which of the three cases applies for D1 = D_c(p, p-r), D2 = D_c(p-r, p-2r).
+int penaltyCase(int d1, int d2, int tau);
+// sum(p, d) = sum over the 8 directions r of L_r(p, d).
+void aggregateScanlines(const CostVolume& costs, const cv::Mat& bgr, const ScanlinePenalties& penalties,
+                        CostVolume& sum);
+void aggregateScanlinesReference(const CostVolume& costs, const cv::Mat& bgr, const ScanlinePenalties& penalties,
+                                 CostVolume& sum);
+// One step of one direction: L(d) from the previous pixel's Lprev. Exposed for tests.
+void scanlineStep(const std::uint16_t* cost, const std::uint16_t* previous, int disparities, std::uint16_t p1,
+                  std::uint16_t p2, std::uint16_t* out);
+
+// ---- wta.cpp ----------------------------------------------------------------------------------
+// Winner-take-all of the left view, and of the right view from the same volume
+// (D_R(x) = argmin_d cost(x + d, d)). CV_16SC1.
+void winnerTakesAll(const CostVolume& costs, cv::Mat& leftDisparity, cv::Mat& rightDisparity);
+
+// ---- refinement.cpp ---------------------------------------------------------------------------
+enum PixelLabel : std::uint8_t { kReliable = 0, kOccluded = 1, kMismatched = 2 };
+// Marks inconsistent pixels (|D_L(p) - D_R(p - D_L(p))| > maxDifference) as outliers and tells
+// occlusions from mismatches as Mei does. Returns labels, CV_8UC1.
+cv::Mat leftRightCheck(const cv::Mat& leftDisparity, const cv::Mat& rightDisparity, int disparities,
+                       int maxDifference);
+// Iterative region voting over the cross support regions; outliers that win a vote become
+// reliable. Returns how many pixels were filled.
+int regionVoting(const CrossArms& arms, const Parameters& parameters, cv::Mat& disparity, cv::Mat& labels);
+// Fills the remaining outliers along their row: occluded from the background (left) side,
+// mismatched with the smaller of the nearest reliable left and right disparities.
+void interpolateOutliers(cv::Mat& disparity, cv::Mat& labels);
+// Sub-pixel disparity from the aggregated costs around each integer disparity. CV_32FC1.
+cv::Mat subpixelRefine(const cv::Mat& disparity, const CostVolume& costs);
+// Removes what is left of pixel locking: Gauss-Newton steps of 1-D Lucas-Kanade on the grey
+// images (zero-mean over a (2r+1)^2 window), starting from the fitted disparity and staying
+// within ±maxChange of it. greyLeft, greyRight: CV_32FC1.
+void refineSubpixelByIntensity(const cv::Mat& greyLeft, const cv::Mat& greyRight, int radius, int iterations,
+                               float maxChange, cv::Mat& disparity);
+// The fit used by subpixelRefine: offset in (-0.5, 0.5) from the costs at d-1, d, d+1.
+float subpixelOffset(int costMinus, int cost, int costPlus);
+
+}  // namespace icewatch::stereo::detail

@@ -1,0 +1,148 @@
+// The Census matchers end to end: synthetic pairs with known disparities, sub-pixel bias, bad
+// input, and the accuracy bar on Middlebury Cones and Teddy.
+#include <gtest/gtest.h>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "core/common/error.hpp"
+#include "core/stereo/evaluation.hpp"
+#include "core/stereo/matcher.hpp"
+#include "tests/core/stereo/stereo_test_images.hpp"
+#include "tests/support/test_paths.hpp"
+
+namespace icewatch::stereo {
+namespace {
+
+constexpr int kSupersample = 8;
+
+// Bars for the Middlebury regression (percent bad > 1 px, nonocc, default parameters). Measured
+// with `icewatch eval`: paper 3.6 (Cones) and 5.9 (Teddy), average 4.74; AD-Census average 4.16.
+// The target, 3.97 for the paper's method, is not reached yet; these bars catch any
+// regression from what is.
+constexpr double kPaperConesBar = 4.0;
+constexpr double kPaperTeddyBar = 6.4;
+constexpr double kPaperAverageBar = 5.0;
+constexpr double kAdCensusAverageBar = 4.5;
+
+// A textured pair whose right eye is the left shifted by shiftEighths / 8 px: both are rendered
+// from one texture 8x finer and area-averaged, as a camera integrates light over its pixels. The
+// texture has one random value per 2 pixels (then smoothed): below the Nyquist limit, as a lens
+// delivers it; an aliased texture has no well-defined sub-pixel shift.
+void shiftedPair(int width, int height, int shiftEighths, cv::Mat& left, cv::Mat& right) {
+    const int fineWidth = (width + 32) * kSupersample;
+    cv::Mat fine = test::randomImage(fineWidth / (2 * kSupersample), height / 2, CV_8UC3, 11);
+    cv::resize(fine, fine, {fineWidth, height * kSupersample}, 0, 0, cv::INTER_CUBIC);
+    const int margin = 16 * kSupersample;
+    const cv::Rect leftArea(margin, 0, width * kSupersample, height * kSupersample);
+    const cv::Rect rightArea(margin + shiftEighths, 0, width * kSupersample, height * kSupersample);
+    cv::resize(fine(leftArea), left, {width, height}, 0, 0, cv::INTER_AREA);
+    cv::resize(fine(rightArea), right, {width, height}, 0, 0, cv::INTER_AREA);
+}
+
+struct ErrorStats {
+    double mean = 0.0;
+    double goodShare = 0.0;
+};
+
+ErrorStats errors(const cv::Mat& disparity, double truth, int border) {
+    double sum = 0.0;
+    int good = 0, count = 0;
+    for (int y = border; y < disparity.rows - border; ++y)
+        for (int x = border + 16; x < disparity.cols - border; ++x) {
+            const double e = disparity.at<float>(y, x) - truth;
+            ++count;
+            if (std::abs(e) < 1.0) {
+                ++good;
+                sum += e;
+            }
+        }
+    return {good ? sum / good : 0.0, static_cast<double>(good) / count};
+}
+
+TEST(CensusMatcher, FindsAConstantShift) {
+    for (Method method : {Method::Paper, Method::AdCensus}) {
+        cv::Mat left, right;
+        shiftedPair(120, 60, 7 * kSupersample, left, right);
+        Matcher matcher(method);
+        const cv::Mat d = matcher.compute(left, right, 16);
+        ASSERT_EQ(d.type(), CV_32FC1);
+        ASSERT_EQ(d.size(), left.size());
+        const ErrorStats e = errors(d, 7.0, 5);
+        EXPECT_GT(e.goodShare, 0.98) << methodName(method);
+        EXPECT_LT(std::abs(e.mean), 0.05) << methodName(method);
+    }
+}
+
+TEST(CensusMatcher, SubpixelEstimatesAreNotPulledToIntegers) {
+    // Pixel locking would pull a true 5.25 towards 5 and a true 5.75 towards 6. The volume
+    // downstream averages sub-pixel disparities, so the mean error at every fraction must be small
+    // (measured: below 0.01 px; the fit on the aggregated cost alone is off by up to 0.21 px).
+    Matcher matcher(Method::Paper);
+    for (int eighths : {2, 3, 4, 5, 6}) {
+        cv::Mat left, right;
+        shiftedPair(120, 60, 5 * kSupersample + eighths, left, right);
+        const double truth = 5.0 + eighths / 8.0;
+        const ErrorStats e = errors(matcher.compute(left, right, 16), truth, 5);
+        EXPECT_GT(e.goodShare, 0.98) << truth;
+        EXPECT_LT(std::abs(e.mean), 0.03) << truth;  // the cost fit alone: up to 0.21 px
+    }
+}
+
+TEST(CensusMatcher, GreyInputAndRepeatedCallsGiveTheSameAnswer) {
+    cv::Mat left, right;
+    shiftedPair(90, 40, 4 * kSupersample, left, right);
+    Matcher matcher(Method::Paper);
+    const cv::Mat first = matcher.compute(left, right, 12);
+    const cv::Mat second = matcher.compute(left, right, 12);
+    EXPECT_EQ(cv::norm(first, second, cv::NORM_INF), 0.0);
+    cv::Mat greyLeft, greyRight;
+    cv::cvtColor(left, greyLeft, cv::COLOR_BGR2GRAY);
+    cv::cvtColor(right, greyRight, cv::COLOR_BGR2GRAY);
+    const ErrorStats e = errors(matcher.compute(greyLeft, greyRight, 12), 4.0, 5);
+    EXPECT_GT(e.goodShare, 0.95);
+}
+
+TEST(CensusMatcher, RejectsBadInput) {
+    for (Method method : {Method::Paper, Method::AdCensus}) {
+        Matcher matcher(method);
+        const cv::Mat a(10, 20, CV_8UC3, cv::Scalar::all(1));
+        EXPECT_THROW(matcher.compute(cv::Mat(), a, 4), InvalidInput);
+        EXPECT_THROW(matcher.compute(a, cv::Mat(10, 21, CV_8UC3), 4), InvalidInput);
+        EXPECT_THROW(matcher.compute(a, cv::Mat(10, 20, CV_8UC1), 4), InvalidInput);
+        EXPECT_THROW(matcher.compute(a, cv::Mat(10, 20, CV_16UC3), 4), InvalidInput);
+        EXPECT_THROW(matcher.compute(a, a, 0), InvalidInput);
+        EXPECT_THROW(matcher.compute(a, a, -3), InvalidInput);
+        EXPECT_THROW(matcher.compute(a, a, 20), InvalidInput);
+        EXPECT_NO_THROW(matcher.compute(a, a, 19));  // flat, tiny, but legal
+    }
+}
+
+double middleburyBad(Matcher& matcher, const std::string& scene) {
+    const auto dir = icewatch::test::sharedData() / "middlebury" / scene;
+    const cv::Mat left = cv::imread((dir / "left.png").string(), cv::IMREAD_COLOR);
+    const cv::Mat right = cv::imread((dir / "right.png").string(), cv::IMREAD_COLOR);
+    const cv::Mat gt = cv::imread((dir / "gt.png").string(), cv::IMREAD_GRAYSCALE);
+    const cv::Mat mask = cv::imread((dir / "nonocc.png").string(), cv::IMREAD_GRAYSCALE);
+    if (left.empty() || gt.empty() || mask.empty()) {
+        ADD_FAILURE() << "Middlebury data missing under " << dir;
+        return 100.0;
+    }
+    return scoreDisparity(matcher.compute(left, right, 64), gt, 4.0, mask, 1.0).badPercent;
+}
+
+// The accuracy bar (bad > 1 px, nonocc) as measured with `icewatch eval` plus a small margin
+// for platform differences in OpenCV's Canny/Harris/resize; a real regression exceeds it.
+TEST(CensusMatcher, MiddleburyRegression) {
+    Matcher paper(Method::Paper);
+    const double cones = middleburyBad(paper, "cones");
+    const double teddy = middleburyBad(paper, "teddy");
+    EXPECT_LT(cones, kPaperConesBar);
+    EXPECT_LT(teddy, kPaperTeddyBar);
+    EXPECT_LT(0.5 * (cones + teddy), kPaperAverageBar);
+    Matcher adCensus(Method::AdCensus);
+    EXPECT_LT(0.5 * (middleburyBad(adCensus, "cones") + middleburyBad(adCensus, "teddy")), kAdCensusAverageBar);
+}
+
+}  // namespace
+}  // namespace icewatch::stereo

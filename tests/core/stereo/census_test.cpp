@@ -1,0 +1,98 @@
+#include <gtest/gtest.h>
+
+#include "core/stereo/stages.hpp"
+#include "tests/core/stereo/stereo_test_images.hpp"
+
+namespace icewatch::stereo::detail {
+namespace {
+
+int nibbleAt(const std::uint64_t* words, int k) { return static_cast<int>((words[k >> 4] >> (4 * (k & 15))) & 0xF); }
+
+TEST(ImprovedCensus, HandComputedCodeWithTrimmedMeanAndAlphaBand) {
+    // A 9x9 image, all 100 except a few chosen pixels around the centre (4, 4). 7x7 window of the
+    // centre: 49 values. Put one 255 (the maximum, dropped) and one 0 (the minimum, dropped), a 103
+    // and a 97 next to the centre; the trimmed sum is 45*100 + 103 + 97 = 4700 over 47 values:
+    // ref = 100. With alpha = 2: 103 > 102 codes 10, 97 < 98 codes 01, 101 and 99 (inside the band)
+    // code 00, and the maximum and minimum themselves still code 10 and 01.
+    cv::Mat grey(9, 9, CV_8UC1, cv::Scalar(100));
+    grey.at<std::uint8_t>(1, 1) = 255;  // window offset (-3, -3): neighbour 0
+    grey.at<std::uint8_t>(7, 7) = 0;    // offset (3, 3): the last neighbour, 47
+    grey.at<std::uint8_t>(4, 5) = 103;  // offset (0, 1): neighbour 24
+    grey.at<std::uint8_t>(4, 3) = 97;   // offset (0, -1): neighbour 23
+    cv::Mat ec = cv::Mat::zeros(9, 9, CV_8UC1);
+    ec.at<std::uint8_t>(3, 4) = 2;  // an edge at offset (-1, 0): neighbour 17
+    ec.at<std::uint8_t>(5, 4) = 1;  // a corner at offset (1, 0): neighbour 30
+    cv::Mat window7 = cv::Mat::ones(9, 9, CV_8UC1);
+    CensusImage census;
+    improvedCensus(grey, ec, 2, window7, census);
+    const std::uint64_t* code = census.at(4, 4) + kCensus7Offset;
+    EXPECT_EQ(nibbleAt(code, 0), 0b1000);
+    EXPECT_EQ(nibbleAt(code, 47), 0b0100);
+    EXPECT_EQ(nibbleAt(code, 24), 0b1000);
+    EXPECT_EQ(nibbleAt(code, 23), 0b0100);
+    EXPECT_EQ(nibbleAt(code, 17), 0b0010);
+    EXPECT_EQ(nibbleAt(code, 30), 0b0001);
+    for (int k : {1, 2, 10, 22, 25, 40, 46}) EXPECT_EQ(nibbleAt(code, k), 0) << k;
+
+    // Trimmed sum 45*100 + 101 + 98 = 4699: ref 99.98, band (97.98, 101.98): both code 00.
+    grey.at<std::uint8_t>(4, 5) = 101;
+    grey.at<std::uint8_t>(4, 3) = 98;
+    improvedCensus(grey, ec, 2, window7, census);
+    code = census.at(4, 4) + kCensus7Offset;
+    EXPECT_EQ(nibbleAt(code, 24), 0);
+    EXPECT_EQ(nibbleAt(code, 23), 0);
+    // Alpha 0: the same pixels leave the band.
+    improvedCensus(grey, ec, 0, window7, census);
+    code = census.at(4, 4) + kCensus7Offset;
+    EXPECT_EQ(nibbleAt(code, 24), 0b1000);
+    EXPECT_EQ(nibbleAt(code, 23), 0b0100);
+}
+
+TEST(ImprovedCensus, WindowFollowsTheGradient) {
+    // Left half flat, a sharp vertical edge in the middle: the edge pixels get 7x7, flat ones 9x9.
+    cv::Mat grey(20, 40, CV_8UC1, cv::Scalar(50));
+    grey(cv::Rect(20, 0, 20, 20)).setTo(200);
+    const cv::Mat mask = censusWindowMask(grey, 6.0);
+    EXPECT_EQ(mask.at<std::uint8_t>(10, 19), 1);
+    EXPECT_EQ(mask.at<std::uint8_t>(10, 20), 1);
+    EXPECT_EQ(mask.at<std::uint8_t>(10, 5), 0);
+    EXPECT_EQ(mask.at<std::uint8_t>(10, 35), 0);
+    // A pixel with the 9x9 window codes only its 9x9 part; the right image gets both codes.
+    const cv::Mat ec = cv::Mat::zeros(grey.size(), CV_8UC1);
+    CensusImage left, right;
+    improvedCensus(grey, ec, 2, mask, left);
+    improvedCensus(grey, ec, 2, cv::Mat(), right);
+    // The flat pixel 4 columns left of the edge sees the bright side only in its 9x9 window.
+    const std::uint64_t* flat = left.at(16, 10);
+    for (int w = 0; w < kCensus7Words; ++w) EXPECT_EQ(flat[kCensus7Offset + w], 0u);
+    int brighter = 0;
+    for (int k = 0; k < 80; ++k) brighter += nibbleAt(flat + kCensus9Offset, k) == 0b1000;
+    EXPECT_EQ(brighter, 9);  // column x = 20, 9 rows
+    EXPECT_NE(right.at(16, 10)[kCensus9Offset], 0u);
+    // Its 7x7 window (x = 13..19) is all 50: every neighbour inside the band.
+    EXPECT_EQ(right.at(16, 10)[kCensus7Offset], 0u);
+}
+
+TEST(ImprovedCensus, OptimisedEqualsReference) {
+    const cv::Mat grey = test::randomImage(631, 479, CV_8UC1, 7);
+    cv::Mat ec(grey.size(), CV_8UC1);
+    cv::randu(ec, 0, 4);
+    const cv::Mat mask = censusWindowMask(grey, 6.0);
+    for (const cv::Mat& m : {mask, cv::Mat()}) {
+        CensusImage fast, plain;
+        improvedCensus(grey, ec, 2, m, fast);
+        improvedCensusReference(grey, ec, 2, m, plain);
+        EXPECT_EQ(fast.data, plain.data);
+    }
+}
+
+TEST(MeiCensus, CentreComparisons) {
+    cv::Mat grey(7, 9, CV_8UC1, cv::Scalar(100));
+    grey.at<std::uint8_t>(0, 0) = 10;  // first neighbour in the 9x7 window: darker, bit 61
+    CensusImage census;
+    meiCensus(grey, census);
+    EXPECT_EQ(*census.at(4, 3), std::uint64_t{1} << 61);
+}
+
+}  // namespace
+}  // namespace icewatch::stereo::detail

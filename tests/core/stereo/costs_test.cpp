@@ -1,0 +1,84 @@
+#include <gtest/gtest.h>
+
+#include <opencv2/imgproc.hpp>
+
+#include "core/stereo/stages.hpp"
+#include "tests/core/stereo/stereo_test_images.hpp"
+
+namespace icewatch::stereo::detail {
+namespace {
+
+struct Pair {
+    cv::Mat bgrLeft, bgrRight, greyLeft, greyRight;
+};
+
+Pair randomPair(int width, int height) {
+    Pair p;
+    p.bgrLeft = test::randomImage(width, height, CV_8UC3, 1);
+    p.bgrRight = test::randomImage(width, height, CV_8UC3, 2);
+    cv::cvtColor(p.bgrLeft, p.greyLeft, cv::COLOR_BGR2GRAY);
+    cv::cvtColor(p.bgrRight, p.greyRight, cv::COLOR_BGR2GRAY);
+    return p;
+}
+
+TEST(Costs, PaperOptimisedEqualsReference) {
+    const Pair p = randomPair(631, 479);
+    const Parameters parameters;
+    CensusImage censusLeft, censusRight;
+    CostInputs left{p.bgrLeft, channelGradientMagnitudes(p.bgrLeft), censusWindowMask(p.greyLeft, 6.0), &censusLeft};
+    CostInputs right{p.bgrRight, channelGradientMagnitudes(p.bgrRight), cv::Mat(), &censusRight};
+    improvedCensus(p.greyLeft, edgeCornerBits(p.greyLeft, parameters), 2, left.windowMask, censusLeft);
+    improvedCensus(p.greyRight, edgeCornerBits(p.greyRight, parameters), 2, cv::Mat(), censusRight);
+    for (int disparities : {13, 24}) {
+        CostVolume fast, plain;
+        fast.create(631, 479, disparities);
+        plain.create(631, 479, disparities);
+        paperCost(left, right, parameters, fast);
+        paperCostReference(left, right, parameters, plain);
+        EXPECT_EQ(fast.data, plain.data) << disparities;
+    }
+}
+
+TEST(Costs, AdCensusOptimisedEqualsReference) {
+    const Pair p = randomPair(631, 479);
+    CensusImage censusLeft, censusRight;
+    meiCensus(p.greyLeft, censusLeft);
+    meiCensus(p.greyRight, censusRight);
+    CostInputs left{p.bgrLeft, {}, {}, &censusLeft};
+    CostInputs right{p.bgrRight, {}, {}, &censusRight};
+    CostVolume fast, plain;
+    fast.create(631, 479, 21);
+    plain.create(631, 479, 21);
+    adCensusCost(left, right, Parameters{}, fast);
+    adCensusCostReference(left, right, Parameters{}, plain);
+    EXPECT_EQ(fast.data, plain.data);
+}
+
+TEST(Costs, IdenticalPixelsCostNothingAndTermsFuseAsThePaperSays) {
+    // One-row images: left pixel 2 equals right pixel 0 (d = 2) exactly; at d = 1 the colours
+    // differ by 10 in each channel.
+    cv::Mat left(1, 3, CV_8UC3, cv::Scalar(100, 100, 100)), right(1, 3, CV_8UC3, cv::Scalar(100, 100, 100));
+    right.at<cv::Vec3b>(0, 1) = {110, 110, 110};
+    cv::Mat grey;
+    cv::Mat zeroGradient = cv::Mat::zeros(1, 3, CV_8UC3);
+    CensusImage censusLeft, censusRight;
+    censusLeft.create(3, 1, kImprovedCensusWords);
+    censusRight.create(3, 1, kImprovedCensusWords);
+    std::fill(censusLeft.data.begin(), censusLeft.data.end(), 0);
+    std::fill(censusRight.data.begin(), censusRight.data.end(), 0);
+    censusRight.at(1, 0)[kCensus9Offset] = 0xF;  // 4 bits differ in the 9x9 code
+    const Parameters parameters;
+    CostInputs l{left, zeroGradient, cv::Mat::zeros(1, 3, CV_8UC1), &censusLeft};
+    CostInputs r{right, zeroGradient, cv::Mat(), &censusRight};
+    CostVolume volume;
+    volume.create(3, 1, 3);
+    paperCost(l, r, parameters, volume);
+    EXPECT_EQ(volume.at(2, 0)[2], 0);
+    const double expected = (1.0 - std::exp(-4.0 / parameters.lambdaCensus)) + (1.0 - std::exp(-30.0 / parameters.lambdaAd));
+    EXPECT_NEAR(volume.at(2, 0)[1] / double(kCostScale), expected, 2.0 / kCostScale);
+    EXPECT_EQ(volume.at(0, 0)[1], 3 * kCostScale);  // no right pixel at x - d < 0
+    EXPECT_EQ(volume.at(0, 0)[7], kPadCost);        // the padded disparity lanes
+}
+
+}  // namespace
+}  // namespace icewatch::stereo::detail

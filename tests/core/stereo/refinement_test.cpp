@@ -1,0 +1,133 @@
+#include <gtest/gtest.h>
+
+#include <opencv2/imgproc.hpp>
+
+#include "core/stereo/matcher.hpp"
+#include "core/stereo/stages.hpp"
+
+namespace icewatch::stereo::detail {
+namespace {
+
+cv::Mat row16(const std::vector<int>& values) {
+    cv::Mat m(1, static_cast<int>(values.size()), CV_16SC1);
+    for (int x = 0; x < m.cols; ++x) m.at<std::int16_t>(0, x) = static_cast<std::int16_t>(values[static_cast<std::size_t>(x)]);
+    return m;
+}
+
+TEST(WinnerTakesAll, LeftAndRightViews) {
+    CostVolume v;
+    v.create(4, 1, 3);
+    std::fill(v.data.begin(), v.data.end(), 100);
+    v.at(0, 0)[0] = 5;
+    v.at(1, 0)[1] = 5;   // left x = 1 sees right x = 0 at d = 1
+    v.at(2, 0)[1] = 5;
+    v.at(3, 0)[2] = 5;   // right x = 1 at d = 2
+    v.at(3, 0)[0] = 50;  // worse than 5
+    cv::Mat left, right;
+    winnerTakesAll(v, left, right);
+    EXPECT_EQ(left.at<std::int16_t>(0, 0), 0);
+    EXPECT_EQ(left.at<std::int16_t>(0, 1), 1);
+    EXPECT_EQ(left.at<std::int16_t>(0, 3), 2);
+    // Right x = 0: candidates (x=0,d=0) 5 and (x=1,d=1) 5 tie: the smaller disparity wins.
+    EXPECT_EQ(right.at<std::int16_t>(0, 0), 0);
+    EXPECT_EQ(right.at<std::int16_t>(0, 1), 1);  // (2,1) = 5 beats (1,0) = 100 and (3,2) = 5 ties later
+    EXPECT_EQ(right.at<std::int16_t>(0, 3), 0);  // only (3,0) exists
+}
+
+TEST(LeftRightCheck, ConsistencyAndOcclusionVersusMismatch) {
+    const cv::Mat left = row16({0, 1, 1, 1, 3, 1, 1, 1});
+    const cv::Mat right = row16({2, 0, 1, 1, 1, 1, 1, 1});
+    const cv::Mat labels = leftRightCheck(left, right, 4, 1);
+    // x = 0: R(0) = 2 differs by 2, and no right pixel maps back to x = 0: occluded.
+    EXPECT_EQ(labels.at<std::uint8_t>(0, 0), kOccluded);
+    EXPECT_EQ(labels.at<std::uint8_t>(0, 1), kReliable);  // |1 - R(0)| = 1 <= δ
+    EXPECT_EQ(labels.at<std::uint8_t>(0, 2), kReliable);
+    // x = 4: d = 3 but R(1) = 0; yet R(3) = 1 maps back to x = 4: mismatched.
+    EXPECT_EQ(labels.at<std::uint8_t>(0, 4), kMismatched);
+    EXPECT_EQ(labels.at<std::uint8_t>(0, 7), kReliable);
+    EXPECT_EQ(leftRightCheck(left, right, 4, 0).at<std::uint8_t>(0, 1), kMismatched);  // δ = 0
+}
+
+TEST(RegionVoting, TakesTheMajorityOfTheRegion) {
+    const cv::Mat image(5, 5, CV_8UC3, cv::Scalar::all(60));  // one region: the whole image
+    CrossArms arms;
+    computeCrossArms(image, Parameters{}, arms);
+    cv::Mat disparity(5, 5, CV_16SC1, cv::Scalar(3));
+    disparity(cv::Rect(0, 0, 4, 1)).setTo(7);  // 4 of 24 reliable say 7, 20 say 3
+    cv::Mat labels = cv::Mat::zeros(5, 5, CV_8UC1);
+    labels.at<std::uint8_t>(2, 2) = kMismatched;
+    disparity.at<std::int16_t>(2, 2) = 9;
+    Parameters parameters;
+    parameters.votingMinCount = 20;  // 24 reliable > 20
+    parameters.votingMinRatio = 0.4;  // 20 / 24 > 0.4
+    cv::Mat d = disparity.clone(), l = labels.clone();
+    EXPECT_EQ(regionVoting(arms, parameters, d, l), 1);
+    EXPECT_EQ(d.at<std::int16_t>(2, 2), 3);
+    EXPECT_EQ(l.at<std::uint8_t>(2, 2), kReliable);
+    // Too few reliable pixels for a vote: nothing changes.
+    parameters.votingMinCount = 24;
+    d = disparity.clone();
+    l = labels.clone();
+    EXPECT_EQ(regionVoting(arms, parameters, d, l), 0);
+    EXPECT_EQ(d.at<std::int16_t>(2, 2), 9);
+    // No clear majority: nothing changes either.
+    parameters.votingMinCount = 20;
+    parameters.votingMinRatio = 0.9;
+    d = disparity.clone();
+    l = labels.clone();
+    EXPECT_EQ(regionVoting(arms, parameters, d, l), 0);
+}
+
+TEST(Interpolation, OccludedFromTheLeftMismatchedTheSmaller) {
+    // Nearest reliable values: 9 on the left, 5 on the right of both outliers.
+    cv::Mat disparity = row16({9, 0, 0, 5});
+    cv::Mat labels = (cv::Mat_<std::uint8_t>(1, 4) << kReliable, kOccluded, kMismatched, kReliable);
+    interpolateOutliers(disparity, labels);
+    EXPECT_EQ(disparity.at<std::int16_t>(0, 1), 9);  // occluded: the left side
+    EXPECT_EQ(disparity.at<std::int16_t>(0, 2), 5);  // mismatched: min(9, 5)
+    // At the left border an occluded pixel has only the right side.
+    cv::Mat border = row16({0, 4});
+    cv::Mat borderLabels = (cv::Mat_<std::uint8_t>(1, 2) << kOccluded, kReliable);
+    interpolateOutliers(border, borderLabels);
+    EXPECT_EQ(border.at<std::int16_t>(0, 0), 4);
+}
+
+TEST(Subpixel, EquiangularFit) {
+    EXPECT_FLOAT_EQ(subpixelOffset(10, 0, 10), 0.0f);
+    // A V of slope 20 with its apex at +0.25: costs 25, 5, 15.
+    EXPECT_FLOAT_EQ(subpixelOffset(25, 5, 15), 0.25f);
+    EXPECT_FLOAT_EQ(subpixelOffset(15, 5, 25), -0.25f);
+    EXPECT_FLOAT_EQ(subpixelOffset(5, 5, 5), 0.0f);  // flat: no information
+
+    CostVolume v;
+    v.create(6, 1, 4);
+    std::fill(v.data.begin(), v.data.end(), 100);
+    std::uint16_t* c = v.at(5, 0);
+    c[1] = 25;
+    c[2] = 5;
+    c[3] = 15;
+    const cv::Mat refined = subpixelRefine(row16({-1, 0, 0, 0, 0, 2}), v);
+    EXPECT_EQ(refined.at<float>(0, 0), kInvalidDisparity);
+    EXPECT_FLOAT_EQ(refined.at<float>(0, 5), 2.25f);
+    EXPECT_FLOAT_EQ(refined.at<float>(0, 1), 0.0f);  // d = 0 has no left neighbour: stays integer
+}
+
+TEST(ImpulseFilter, RepairsOnlyImpulses) {
+    // A vertical ramp (a clean structure that must survive) with one white and one black impulse.
+    cv::Mat bgr(7, 7, CV_8UC3);
+    for (int y = 0; y < 7; ++y) bgr.row(y).setTo(cv::Scalar::all(100 + 10 * y));
+    bgr.at<cv::Vec3b>(2, 2) = {255, 255, 255};
+    bgr.at<cv::Vec3b>(4, 5) = {0, 0, 0};
+    cv::Mat grey;
+    cv::cvtColor(bgr, grey, cv::COLOR_BGR2GRAY);
+    const cv::Mat clean = bgr.clone();
+    EXPECT_EQ(removeImpulses(bgr, grey, 40), 2);
+    EXPECT_EQ(bgr.at<cv::Vec3b>(2, 2), cv::Vec3b::all(120));
+    EXPECT_EQ(bgr.at<cv::Vec3b>(4, 5), cv::Vec3b::all(140));
+    EXPECT_EQ(grey.at<std::uint8_t>(2, 2), 120);
+    EXPECT_EQ(bgr.at<cv::Vec3b>(3, 3), clean.at<cv::Vec3b>(3, 3));  // the ramp is untouched
+    EXPECT_EQ(removeImpulses(bgr, grey, 40), 0);
+}
+
+}  // namespace
+}  // namespace icewatch::stereo::detail

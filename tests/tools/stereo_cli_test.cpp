@@ -1,0 +1,137 @@
+// icewatch match / eval / bench as a person or a script meets them: outputs, JSON, exit statuses.
+#include <fstream>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "core/common/exit_codes.hpp"
+#include "core/stereo/disparity_io.hpp"
+#include "tests/support/run_program.hpp"
+#include "tests/support/test_paths.hpp"
+
+namespace icewatch {
+namespace {
+
+std::string icewatchBin() { return (test::binDir() / "icewatch").string(); }
+
+struct SmallPair {
+    std::string left, right, gt, mask;
+};
+
+// A textured pair shifted by 6 px with its ground truth (scale 4) and a full mask.
+SmallPair writeSmallPair(const std::filesystem::path& dir) {
+    cv::Mat texture(48, 100, CV_8UC3);
+    cv::randu(texture, 0, 256);
+    cv::GaussianBlur(texture, texture, {5, 5}, 1.2);
+    const cv::Mat right = texture(cv::Rect(10, 0, 80, 48)).clone();
+    const cv::Mat left = texture(cv::Rect(4, 0, 80, 48)).clone();
+    SmallPair p{(dir / "l.png").string(), (dir / "r.png").string(), (dir / "gt.png").string(),
+                (dir / "mask.png").string()};
+    cv::imwrite(p.left, left);
+    cv::imwrite(p.right, right);
+    cv::imwrite(p.gt, cv::Mat(48, 80, CV_8UC1, cv::Scalar(24)));
+    cv::imwrite(p.mask, cv::Mat(48, 80, CV_8UC1, cv::Scalar(255)));
+    return p;
+}
+
+TEST(StereoCli, MatchWritesPfmAndPicture) {
+    const auto dir = test::freshTempDir();
+    const SmallPair p = writeSmallPair(dir);
+    for (const char* method : {"paper", "adcensus", "sgbm"}) {
+        const auto out = dir / (std::string(method) + ".pfm");
+        const auto colour = dir / (std::string(method) + ".png");
+        auto r = test::runProgram({icewatchBin(), "match", "--left", p.left, "--right", p.right, "--max-disp", "16",
+                                   "--method", method, "--out", out.string(), "--color", colour.string()});
+        ASSERT_EQ(r.status, 0) << r.err;
+        const cv::Mat d = stereo::readPfm(out);
+        EXPECT_EQ(d.size(), cv::Size(80, 48));
+        EXPECT_NEAR(d.at<float>(24, 50), 6.0f, 0.5f) << method;
+        EXPECT_EQ(cv::imread(colour.string()).size(), cv::Size(80, 48));
+    }
+}
+
+TEST(StereoCli, EvalPrintsTheMetricsAsJson) {
+    const auto dir = test::freshTempDir();
+    const SmallPair p = writeSmallPair(dir);
+    auto r = test::runProgram({icewatchBin(), "eval", "--left", p.left, "--right", p.right, "--gt", p.gt, "--gt-scale",
+                               "4", "--mask", p.mask, "--max-disp", "16", "--noise", "saltpepper:3", "--seed", "9",
+                               "--json"});
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j.at("method"), "paper");
+    EXPECT_EQ(j.at("noise"), "saltpepper:3");
+    EXPECT_GE(j.at("match_ms").get<double>(), 0.0);
+    EXPECT_GT(j.at("valid_percent").get<double>(), 99.0);
+    // The left 16 columns have no match in the right image; the rest is a clean 6 px shift.
+    EXPECT_LT(j.at("bad_percent").get<double>(), 25.0);
+}
+
+TEST(StereoCli, BenchReportsBothMethodsAndTheRatio) {
+    const auto dir = test::freshTempDir();
+    const SmallPair p = writeSmallPair(dir);
+    auto r = test::runProgram(
+        {icewatchBin(), "bench", "--left", p.left, "--right", p.right, "--max-disp", "16", "--repeat", "2", "--json"});
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_GT(j.at("paper_ms").get<double>(), 0.0);
+    EXPECT_GT(j.at("sgbm_ms").get<double>(), 0.0);
+    EXPECT_NEAR(j.at("ratio").get<double>(), j.at("paper_ms").get<double>() / j.at("sgbm_ms").get<double>(), 1e-9);
+}
+
+TEST(StereoCli, BadInputGivesAClearErrorAndExitStatus) {
+    const auto dir = test::freshTempDir();
+    const SmallPair p = writeSmallPair(dir);
+    const std::string out = (dir / "d.pfm").string();
+    auto match = [&](const std::string& left, const std::string& right, const std::string& maxDisp) {
+        return test::runProgram({icewatchBin(), "match", "--left", left, "--right", right, "--max-disp", maxDisp,
+                                 "--out", out});
+    };
+    // Sizes differ.
+    const std::string small = (dir / "small.png").string();
+    cv::imwrite(small, cv::Mat(20, 30, CV_8UC3, cv::Scalar::all(9)));
+    auto r = match(p.left, small, "16");
+    EXPECT_EQ(r.status, kExitDataErr);
+    EXPECT_NE(r.err.find("sizes differ"), std::string::npos) << r.err;
+    // Max disparity out of range.
+    r = match(p.left, p.right, "0");
+    EXPECT_EQ(r.status, kExitDataErr);
+    EXPECT_NE(r.err.find("max disparity 0"), std::string::npos) << r.err;
+    EXPECT_EQ(match(p.left, p.right, "80").status, kExitDataErr);
+    EXPECT_EQ(match(p.left, p.right, "-5").status, kExitDataErr);
+    // Missing and unreadable (not an image, empty) files.
+    r = match((dir / "missing.png").string(), p.right, "16");
+    EXPECT_EQ(r.status, kExitNoInput);
+    EXPECT_NE(r.err.find("missing.png"), std::string::npos) << r.err;
+    std::ofstream(dir / "garbage.png") << "not a png";
+    EXPECT_EQ(match((dir / "garbage.png").string(), p.right, "16").status, kExitNoInput);
+    std::ofstream(dir / "empty.png").close();
+    EXPECT_EQ(match((dir / "empty.png").string(), p.right, "16").status, kExitNoInput);
+    // Wrong types of arguments and values.
+    EXPECT_EQ(match(p.left, p.right, "many").status, kExitUsage);
+    r = test::runProgram({icewatchBin(), "match", "--left", p.left, "--right", p.right, "--max-disp", "16", "--method",
+                          "bm", "--out", out});
+    EXPECT_EQ(r.status, kExitUsage);
+    r = test::runProgram({icewatchBin(), "eval", "--left", p.left, "--right", p.right, "--gt", p.gt, "--gt-scale", "4",
+                          "--max-disp", "16", "--noise", "pink:3"});
+    EXPECT_EQ(r.status, kExitDataErr);
+    EXPECT_NE(r.err.find("pink:3"), std::string::npos) << r.err;
+    // Ground truth of another size.
+    r = test::runProgram({icewatchBin(), "eval", "--left", p.left, "--right", p.right, "--gt", small, "--gt-scale", "4",
+                          "--max-disp", "16"});
+    EXPECT_EQ(r.status, kExitDataErr);
+    // An output that cannot be created.
+    r = test::runProgram({icewatchBin(), "match", "--left", p.left, "--right", p.right, "--max-disp", "16", "--out",
+                          (dir / "no" / "such" / "dir.pfm").string()});
+    EXPECT_EQ(r.status, kExitCantCreate);
+    // A bad stereo section in --config.
+    std::ofstream(dir / "bad.json") << R"({"stereo": {"census_alpha": -1}})";
+    r = test::runProgram({icewatchBin(), "match", "--left", p.left, "--right", p.right, "--max-disp", "16", "--out", out,
+                          "--config", (dir / "bad.json").string()});
+    EXPECT_EQ(r.status, kExitConfig);
+    EXPECT_NE(r.err.find("stereo.census_alpha"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace icewatch
