@@ -186,12 +186,15 @@ void Daemon::loop(std::optional<TimePoint> end) {
         std::lock_guard lock(mutex_);
         notifier_->notify("READY=1" + (readyStatus_.empty() ? std::string() : "\nSTATUS=" + readyStatus_));
     }
-    TimePoint start = clock_.now();
-    {
+    if (!scheduled_) {
+        // The first cycle runs at once; the schedule then persists across run/runUntil calls.
+        const TimePoint start = clock_.now();
         std::lock_guard lock(mutex_);
         nextCycle_ = start;
+        nextCheck_ = start + std::chrono::seconds(config_.daemon.cameraCheckS);
+        scheduled_ = true;
     }
-    TimePoint nextCheck = start + std::chrono::seconds(config_.daemon.cameraCheckS);
+    TimePoint& nextCheck = nextCheck_;
     while (!stopping()) {
         const Requests requests = takeRequests();
         if (requests.reload) reload();

@@ -113,6 +113,8 @@ private:
     CameraState camera_ = CameraState::Offline;
     std::string cameraDetail_;
     TimePoint nextCycle_{};
+    TimePoint nextCheck_{};     // loop thread only
+    bool scheduled_ = false;    // loop thread only
     nlohmann::json baselineInfo_;      // null or {time, calibration_sha256}
     nlohmann::json lastBaselineCapture_;
     int reloads_ = 0;
