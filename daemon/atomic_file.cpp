@@ -30,14 +30,15 @@ bool writeAll(int fd, std::string_view content) {
 }
 }  // namespace
 
-bool writeFileAtomically(const std::filesystem::path& path, std::string_view content) {
+bool writeFileAtomically(const std::filesystem::path& path, std::string_view content, Durability durability) {
     const std::filesystem::path dir = path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
     std::string temp = (dir / (path.filename().string() + std::string(kTempMarker) + "XXXXXX")).string();
     const int fd = ::mkostemp(temp.data(), O_CLOEXEC);
     if (fd < 0) {
         return false;
     }
-    bool ok = ::fchmod(fd, 0644) == 0 && writeAll(fd, content) && ::fsync(fd) == 0;
+    const bool durable = durability == Durability::Durable;
+    bool ok = ::fchmod(fd, 0644) == 0 && writeAll(fd, content) && (!durable || ::fsync(fd) == 0);
     const int savedErrno = errno;
     ok = ::close(fd) == 0 && ok;
     if (!ok || ::rename(temp.c_str(), path.c_str()) != 0) {
@@ -45,6 +46,9 @@ bool writeFileAtomically(const std::filesystem::path& path, std::string_view con
         ::unlink(temp.c_str());
         errno = e;
         return false;
+    }
+    if (!durable) {
+        return true;
     }
     const int dirFd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
     if (dirFd < 0) {

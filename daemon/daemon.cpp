@@ -395,7 +395,8 @@ CycleResult Daemon::publish(CycleResult result, const ChainPictures& pictures, b
         std::vector<uchar> png;
         if (images[i]->empty() || !cv::imencode(".png", *images[i], png)) continue;
         const auto path = stateDir_ / "images" / (kPictureNames[i] + ".png");
-        if (!writeFileAtomically(path, std::string_view(reinterpret_cast<const char*>(png.data()), png.size()))) {
+        if (!writeFileAtomically(path, std::string_view(reinterpret_cast<const char*>(png.data()), png.size()),
+                                 Durability::AtomicOnly)) {
             logger()->error("cannot write {}", path.string());
         }
     }

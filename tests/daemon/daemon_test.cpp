@@ -85,13 +85,18 @@ TEST(Daemon, ADayOfTenMinuteCyclesInHistory) {
 }
 
 TEST(Daemon, HistoryIsPrunedByAge) {
-    Rig rig([](config::Config& c) { c.history.retentionDays = 1; }, icewatch::test::freshTempDir(),
-            [](ScriptedChain& c) { c.script = [](int, const StereoPair&) { return okResult(50.0); }; });
+    Rig rig(
+        [](config::Config& c) {
+            c.history.retentionDays = 1;
+            c.daemon.intervalS = 3600;
+        },
+        icewatch::test::freshTempDir(),
+        [](ScriptedChain& c) { c.script = [](int, const StereoPair&) { return okResult(50.0); }; });
     rig.daemon->runUntil(rig.at(2 * 24 * 3600));
     const auto rows = rig.daemon->history(testEpoch(), 100000);
-    // The last cycle ran at 47:50; rows from 23:50 on are within a day of it.
-    ASSERT_EQ(rows.size(), 145u);
-    EXPECT_EQ(rows.front()["time"], "2026-01-01T23:50:00Z");
+    // The last cycle ran at 47:00; rows from 23:00 on are within a day of it.
+    ASSERT_EQ(rows.size(), 25u);
+    EXPECT_EQ(rows.front()["time"], "2026-01-01T23:00:00Z");
 }
 
 TEST(Daemon, GpioFollowsAnIceSeriesWithHysteresis) {
