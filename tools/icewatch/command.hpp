@@ -24,6 +24,9 @@ struct Registration {
 
 // One function per subcommand file (tools/icewatch/cmd_*.cpp).
 void addConfigCommand(CLI::App& app, const GlobalOptions& global, RunFunction& run);
+void addInfoCommand(CLI::App& app, const GlobalOptions& global, RunFunction& run);
+void addRecordCommand(CLI::App& app, const GlobalOptions& global, RunFunction& run);
+void addAcquireCommand(CLI::App& app, const GlobalOptions& global, RunFunction& run);
 void addHistoryCommand(CLI::App& app, const GlobalOptions& global, RunFunction& run);
 void addStatusCommand(CLI::App& app, const GlobalOptions& global, RunFunction& run);
 void addBaselineCommand(CLI::App& app, const GlobalOptions& global, RunFunction& run);

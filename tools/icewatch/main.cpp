@@ -20,6 +20,9 @@ int main(int argc, char** argv) {
 
     cli::RunFunction run;
     cli::addConfigCommand(app, global, run);
+    cli::addInfoCommand(app, global, run);
+    cli::addRecordCommand(app, global, run);
+    cli::addAcquireCommand(app, global, run);
     cli::addHistoryCommand(app, global, run);
     cli::addStatusCommand(app, global, run);
     cli::addBaselineCommand(app, global, run);
