@@ -25,7 +25,8 @@ struct ChainResult {
     Status status = Status::Failed;
     std::string reason;  // why, when not Ok
     double volumeMm3 = 0.0;
-    double uncertaintyMm3 = 0.0;  // one standard deviation
+    double uncertaintyMm3 = 0.0;  // expanded: coverageFactor standard deviations
+    double coverageFactor = 1.0;
     double meanThicknessMm = 0.0;
     double maxThicknessMm = 0.0;
     double validPercent = 0.0;    // share of the region with a valid disparity

@@ -1,7 +1,8 @@
 // The measurement cycle. A single frame can be spoilt by a passing bird, a raindrop or a JPEG
 // glitch, so each cycle grabs a burst and reports the median; how far the burst's volumes scatter
 // is measurement noise the per-frame uncertainty does not see, so it is added to it in quadrature
-// (as a robust standard deviation, 1.4826 x the median absolute deviation). The frames of one
+// (as a robust standard deviation, 1.4826 x the median absolute deviation, expanded with the
+// chain's coverage factor so both terms mean the same). The frames of one
 // burst are seconds apart and strongly correlated, so the spread is not divided by sqrt(N).
 //
 // Outcome rules: any grab failure is a camera fault (the camera went away mid-cycle); a chain
@@ -191,7 +192,7 @@ std::optional<CycleOutcome> runMeasurementCycle(FrameSource& source, Measurement
     const double volume = median(volumes);
     std::vector<double> deviations;
     for (double v : volumes) deviations.push_back(std::abs(v - volume));
-    const double spread = 1.4826 * median(deviations);
+    const double spread = measured.front().coverageFactor * 1.4826 * median(deviations);
     const double frameUncertainty = median(uncertainties);
     r.status = CycleStatus::Ok;
     r.volumeMm3 = volume;

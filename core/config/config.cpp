@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/config/section.hpp"
+#include "core/stereo/matcher.hpp"
 
 namespace icewatch::config {
 
@@ -38,6 +39,45 @@ void readCamera(Section s, CameraConfig& camera) {
         s.fail("reconnect_max_ms", "must not be below reconnect_min_ms");
     }
     s.read("controls", camera.controls);
+    s.finish();
+}
+
+void readVolume(Section s, volume::Parameters& v) {
+    std::string method = stereo::methodName(v.stereoMethod);
+    s.readChoice("stereo_method", method, {"paper", "adcensus", "sgbm"});
+    v.stereoMethod = stereo::parseMethod(method);
+    s.read("max_disparity", v.maxDisparity, 16, 1024);
+    s.read("roi_polygon", v.roiPolygon);
+    if (!v.roiPolygon.empty() && (v.roiPolygon.size() % 2 != 0 || v.roiPolygon.size() < 6)) {
+        s.fail("roi_polygon", "must be x, y pairs of at least 3 points (or empty to segment)");
+    }
+    s.read("edge_margin_px", v.edgeMarginPx, 0, 50);
+    s.read("segmentation_band_mm", v.segmentationBandMm, 1.0, 5000.0);
+    s.read("icp_iterations", v.icpIterations, 1, 500);
+    s.read("icp_convergence_mm", v.icpConvergenceMm, 1e-6, 10.0);
+    s.read("icp_sample_step", v.icpSampleStep, 1, 16);
+    s.read("icp_trim_sigma", v.icpTrimSigma, 1.0, 20.0);
+    s.read("change_threshold_mm", v.changeThresholdMm, 0.01, 100.0);
+    s.read("max_registration_mm", v.maxRegistrationMm, 0.1, 1000.0);
+    s.read("max_registration_rms_mm", v.maxRegistrationRmsMm, 0.01, 100.0);
+    s.read("knn_k", v.knnK, 2, 100);
+    s.read("knn_theta", v.knnTheta, 0.1, 20.0);
+    s.read("grid_cell_mm", v.gridCellMm, 0.05, 100.0);
+    std::string integration = v.integration == volume::Integration::Sum ? "sum" : "trapz";
+    s.readChoice("integration", integration, {"trapz", "sum"});
+    v.integration = integration == "sum" ? volume::Integration::Sum : volume::Integration::Trapz;
+    s.read("max_thickness_mm", v.maxThicknessMm, 1.0, 2000.0);
+    s.read("disparity_noise_px", v.disparityNoisePx, 0.0, 10.0);
+    s.read("correlation_px", v.correlationPx, 1, 64);
+    s.read("subpixel_bias_px", v.subpixelBiasPx, 0.0, 1.0);
+    s.read("edge_uncertainty_px", v.edgeUncertaintyPx, 0.0, 10.0);
+    s.read("coverage_factor", v.coverageFactor, 1.0, 5.0);
+    s.read("min_valid_percent", v.minValidPercent, 0.0, 100.0);
+    s.read("min_mean_grey", v.minMeanGrey, 0.0, 255.0);
+    s.read("max_saturated_percent", v.maxSaturatedPercent, 0.0, 100.0);
+    s.read("min_contrast", v.minContrast, 0.0, 255.0);
+    s.read("min_points", v.minPoints, 10, 100000000);
+    s.read("max_filled_percent", v.maxFilledPercent, 0.0, 100.0);
     s.finish();
 }
 
@@ -138,6 +178,7 @@ Config parseConfig(std::string_view text, const std::string& fileName) {
     Section top(root, fileName, "");
     readLog(top.child("log"), config.log);
     readCamera(top.child("camera"), config.camera);
+    readVolume(top.child("volume"), config.volume);
     readDaemon(top.child("daemon"), config.daemon);
     readAlarm(top.child("alarm"), config.alarm);
     readGpio(top.child("gpio"), config.gpio);

@@ -6,6 +6,8 @@
 #include <string>
 #include <string_view>
 
+#include "core/volume/parameters.hpp"
+
 namespace icewatch::config {
 
 // Every key is documented, with its default, in config/icewatch.json. The defaults here and
@@ -88,6 +90,7 @@ struct Config {
     std::string sourceFile;  // where it was loaded from, for messages
     LogConfig log;
     CameraConfig camera;
+    volume::Parameters volume;  // the "volume" section: every tunable of the volume chain
     DaemonConfig daemon;
     AlarmConfig alarm;
     GpioConfig gpio;

@@ -111,8 +111,9 @@ TEST(HttpApi, MalformedRequestsGetJsonErrors) {
     EXPECT_LT(r->status, 500);
     EXPECT_TRUE(body(r)["error"].is_string()) << r->body;
     // Not HTTP at all, and a request line far too long: refused, and the server carries on.
-    EXPECT_NE(rawExchange(api.http.port(), "\x01\x02garbage\r\n\r\n").find(" 400 "), std::string::npos);
-    // An overlong request line is dropped (closed, or a 4xx): either way no 2xx and no crash.
+    // Each is answered with a 4xx or dropped (closed): never a 2xx, never a crash.
+    const std::string garbage = rawExchange(api.http.port(), "\x01\x02garbage\r\n\r\n");
+    EXPECT_TRUE(garbage.empty() || garbage.find(" 400 ") != std::string::npos) << garbage;
     const std::string longLine = rawExchange(api.http.port(), "GET /" + std::string(20000, 'a') + " HTTP/1.1\r\n\r\n");
     EXPECT_TRUE(longLine.empty() || longLine.find(" 4") != std::string::npos) << longLine;
     r = api.client.Get("/v1/health");

@@ -24,6 +24,8 @@ struct Registration {
 
 // One function per subcommand file (tools/icewatch/cmd_*.cpp).
 void addConfigCommand(CLI::App& app, const GlobalOptions& global, RunFunction& run);
+void addSynthCommand(CLI::App& app, const GlobalOptions& global, RunFunction& run);
+void addVolumeCommand(CLI::App& app, const GlobalOptions& global, RunFunction& run);
 void addInfoCommand(CLI::App& app, const GlobalOptions& global, RunFunction& run);
 void addRecordCommand(CLI::App& app, const GlobalOptions& global, RunFunction& run);
 void addAcquireCommand(CLI::App& app, const GlobalOptions& global, RunFunction& run);

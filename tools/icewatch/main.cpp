@@ -20,6 +20,8 @@ int main(int argc, char** argv) {
 
     cli::RunFunction run;
     cli::addConfigCommand(app, global, run);
+    cli::addSynthCommand(app, global, run);
+    cli::addVolumeCommand(app, global, run);
     cli::addInfoCommand(app, global, run);
     cli::addRecordCommand(app, global, run);
     cli::addAcquireCommand(app, global, run);

@@ -70,6 +70,46 @@ TEST(Config, ShippedFileDocumentsTheDefaults) {
     EXPECT_EQ(shipped.http.port, defaults.http.port);
     EXPECT_EQ(shipped.http.token, defaults.http.token);
     EXPECT_EQ(shipped.history.retentionDays, defaults.history.retentionDays);
+    const volume::Parameters &v = shipped.volume, &d = defaults.volume;
+    EXPECT_EQ(v.stereoMethod, d.stereoMethod);
+    EXPECT_EQ(v.maxDisparity, d.maxDisparity);
+    EXPECT_EQ(v.roiPolygon, d.roiPolygon);
+    EXPECT_EQ(v.edgeMarginPx, d.edgeMarginPx);
+    EXPECT_EQ(v.segmentationBandMm, d.segmentationBandMm);
+    EXPECT_EQ(v.icpIterations, d.icpIterations);
+    EXPECT_EQ(v.icpConvergenceMm, d.icpConvergenceMm);
+    EXPECT_EQ(v.icpSampleStep, d.icpSampleStep);
+    EXPECT_EQ(v.icpTrimSigma, d.icpTrimSigma);
+    EXPECT_EQ(v.changeThresholdMm, d.changeThresholdMm);
+    EXPECT_EQ(v.maxRegistrationMm, d.maxRegistrationMm);
+    EXPECT_EQ(v.maxRegistrationRmsMm, d.maxRegistrationRmsMm);
+    EXPECT_EQ(v.knnK, d.knnK);
+    EXPECT_EQ(v.knnTheta, d.knnTheta);
+    EXPECT_EQ(v.gridCellMm, d.gridCellMm);
+    EXPECT_EQ(v.integration, d.integration);
+    EXPECT_EQ(v.maxThicknessMm, d.maxThicknessMm);
+    EXPECT_EQ(v.disparityNoisePx, d.disparityNoisePx);
+    EXPECT_EQ(v.correlationPx, d.correlationPx);
+    EXPECT_EQ(v.subpixelBiasPx, d.subpixelBiasPx);
+    EXPECT_EQ(v.edgeUncertaintyPx, d.edgeUncertaintyPx);
+    EXPECT_EQ(v.coverageFactor, d.coverageFactor);
+    EXPECT_EQ(v.minValidPercent, d.minValidPercent);
+    EXPECT_EQ(v.minMeanGrey, d.minMeanGrey);
+    EXPECT_EQ(v.maxSaturatedPercent, d.maxSaturatedPercent);
+    EXPECT_EQ(v.minContrast, d.minContrast);
+    EXPECT_EQ(v.minPoints, d.minPoints);
+    EXPECT_EQ(v.maxFilledPercent, d.maxFilledPercent);
+}
+
+TEST(Config, VolumeSectionIsRead) {
+    const Config c = parseConfig(R"({"volume": {"stereo_method": "sgbm", "integration": "sum", "knn_k": 12,
+        "roi_polygon": [0, 0, 10, 0, 10, 10]}})", "test.json");
+    EXPECT_EQ(c.volume.stereoMethod, stereo::Method::Sgbm);
+    EXPECT_EQ(c.volume.integration, volume::Integration::Sum);
+    EXPECT_EQ(c.volume.knnK, 12);
+    EXPECT_EQ(c.volume.roiPolygon.size(), 6u);
+    EXPECT_EQ(errorOf(R"({"volume": {"integration": "simpson"}})").find("test.json: volume.integration"), 0u);
+    EXPECT_EQ(errorOf(R"({"volume": {"roi_polygon": [1, 2, 3]}})").find("test.json: volume.roi_polygon"), 0u);
 }
 
 TEST(Config, DaemonSectionsAreValidated) {

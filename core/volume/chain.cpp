@@ -1,0 +1,542 @@
+// The volume chain: from two captures (a clean baseline and the current one) to an ice volume
+// with an honest error bar, or a refusal with a reason.
+//
+// The ice is about 0.1 px of disparity at 1280 px per eye, so the chain differences surfaces in a
+// common frame rather than trusting absolute depth: both captures are measured with the same
+// calibration and matcher, the current one is registered onto the baseline on the parts that did
+// not change (robust point-to-plane ICP, then again without the places that look iced), and the
+// thickness is the difference of the two surfaces along the normal of the baseline's mean plane.
+// Volume is invariant to that choice of direction as long as both surfaces are height fields over
+// it, which a nearly fronto-parallel view of a blade or a plate guarantees.
+//
+// Stages, as the seed paper's section 2.2 with registration and an error budget added:
+//   measureSurface: split → rectify → match → reproject (Q) → region → image quality
+//   estimate:       gate → plane frame → register → k-NN filter → grid (linear interpolation)
+//                   → integrate (trapz | sum) → uncertainty → gate
+#include "core/volume/chain.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include <opencv2/imgproc.hpp>
+
+#include "core/common/error.hpp"
+#include "core/stereo/matcher.hpp"
+#include "core/volume/height_grid.hpp"
+#include "core/volume/outlier_filter.hpp"
+#include "core/volume/registration.hpp"
+#include "core/volume/roi.hpp"
+
+namespace icewatch::volume {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kPi = 3.14159265358979323846;
+
+// Times consecutive stages with the clock the chain was given.
+class StageTimer {
+public:
+    StageTimer(const VolumeChain::Clock& clock, Timings& timings) : clock_(clock), timings_(timings) { start_ = now(); }
+    void lap(const std::string& stage) {
+        const auto t = now();
+        timings_.emplace_back(stage, std::chrono::duration<double, std::milli>(t - start_).count());
+        start_ = t;
+    }
+
+private:
+    std::chrono::steady_clock::time_point now() const {
+        return clock_ ? clock_() : std::chrono::steady_clock::time_point{};
+    }
+    const VolumeChain::Clock& clock_;
+    Timings& timings_;
+    std::chrono::steady_clock::time_point start_;
+};
+
+cv::Mat toGrey(const cv::Mat& image) {
+    if (image.channels() == 1) return image;
+    cv::Mat grey;
+    cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY);
+    return grey;
+}
+
+// [X Y Z W]ᵀ = Q·[x y d 1]ᵀ for every valid disparity; NaN elsewhere.
+cv::Mat reproject(const cv::Mat& disparity, const cv::Mat& q) {
+    const cv::Matx44d Q(q);
+    cv::Mat points(disparity.size(), CV_32FC3, cv::Scalar::all(std::numeric_limits<float>::quiet_NaN()));
+    for (int y = 0; y < disparity.rows; ++y) {
+        const auto* d = disparity.ptr<float>(y);
+        auto* out = points.ptr<cv::Vec3f>(y);
+        for (int x = 0; x < disparity.cols; ++x) {
+            if (!(d[x] > 0)) continue;
+            const cv::Vec4d h = Q * cv::Vec4d(x, y, d[x], 1.0);
+            if (std::abs(h[3]) < 1e-12) continue;
+            const cv::Vec3f p(static_cast<float>(h[0] / h[3]), static_cast<float>(h[1] / h[3]),
+                              static_cast<float>(h[2] / h[3]));
+            if (p[2] > 0) out[x] = p;
+        }
+    }
+    return points;
+}
+
+bool validPoint(const cv::Vec3f& p) { return !std::isnan(p[2]); }
+
+// Box average of the finite values of a CV_64F map, window (2r+1)²; NaN where none.
+cv::Mat localMean(const cv::Mat& values, int radius) {
+    cv::Mat finite = values.clone(), weight(values.size(), CV_64F);
+    for (int y = 0; y < values.rows; ++y)
+        for (int x = 0; x < values.cols; ++x) {
+            const bool ok = !std::isnan(values.at<double>(y, x));
+            weight.at<double>(y, x) = ok ? 1.0 : 0.0;
+            if (!ok) finite.at<double>(y, x) = 0.0;
+        }
+    const cv::Size window(2 * radius + 1, 2 * radius + 1);
+    cv::boxFilter(finite, finite, CV_64F, window, {-1, -1}, false);
+    cv::boxFilter(weight, weight, CV_64F, window, {-1, -1}, false);
+    cv::Mat mean(values.size(), CV_64F);
+    for (int y = 0; y < values.rows; ++y)
+        for (int x = 0; x < values.cols; ++x) {
+            const double w = weight.at<double>(y, x);
+            mean.at<double>(y, x) = w > 0 ? finite.at<double>(y, x) / w : kNaN;
+        }
+    return mean;
+}
+
+cv::Mat falseColour(const cv::Mat& values, double lo, double hi) {
+    cv::Mat scaled(values.size(), CV_8U), invalid(values.size(), CV_8U);
+    for (int y = 0; y < values.rows; ++y)
+        for (int x = 0; x < values.cols; ++x) {
+            const double v = values.type() == CV_32F ? values.at<float>(y, x) : values.at<double>(y, x);
+            const bool bad = std::isnan(v) || (values.type() == CV_32F && v < 0);
+            invalid.at<std::uint8_t>(y, x) = bad ? 255 : 0;
+            scaled.at<std::uint8_t>(y, x) = bad ? 0 : cv::saturate_cast<std::uint8_t>(255.0 * (v - lo) / (hi - lo));
+        }
+    cv::Mat colour;
+    cv::applyColorMap(scaled, colour, cv::COLORMAP_JET);
+    colour.setTo(cv::Scalar::all(0), invalid);
+    return colour;
+}
+
+// The baseline's outline as the object stands in the current capture: every outline pixel is
+// put on the baseline's plane, moved back by the registration and projected; then eroded by the
+// edge margin, where depths mix.
+cv::Mat outlineInCurrent(const cv::Mat& roi, const PlaneFrame& plane, const RigidTransform& toBaseline,
+                         const cv::Matx34d& projection, int edgeMarginPx) {
+    const cv::Matx33d k = projection.get_minor<3, 3>(0, 0);
+    const cv::Matx33d kInv = k.inv();
+    const cv::Matx33d back = toBaseline.rotation.t();
+    std::vector<std::vector<cv::Point>> contours;
+    cv::findContours(roi.clone(), contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
+    for (auto& contour : contours)
+        for (cv::Point& px : contour) {
+            const cv::Vec3d ray = kInv * cv::Vec3d(px.x, px.y, 1.0);
+            const cv::Vec3d onPlane = (plane.normal.dot(plane.origin) / plane.normal.dot(ray)) * ray;
+            const cv::Vec3d moved = k * (back * (onPlane - toBaseline.translation));
+            px = {static_cast<int>(std::lround(moved[0] / moved[2])), static_cast<int>(std::lround(moved[1] / moved[2]))};
+        }
+    cv::Mat mask = cv::Mat::zeros(roi.size(), CV_8U);
+    cv::fillPoly(mask, contours, cv::Scalar(255));
+    if (edgeMarginPx > 0) {
+        cv::erode(mask, mask, cv::getStructuringElement(cv::MORPH_ELLIPSE, {2 * edgeMarginPx + 1, 2 * edgeMarginPx + 1}));
+    }
+    return mask;
+}
+
+VolumeResult refused(VolumeResult result, const std::string& reason) {
+    result.ok = false;
+    result.reason = reason;
+    result.volumeMm3 = result.uncertaintyMm3 = result.meanThicknessMm = result.maxThicknessMm = 0;
+    return result;
+}
+
+void checkParameters(const Parameters& p) {
+    auto fail = [](const std::string& what) { throw Error(kExitConfig, "volume parameters: " + what); };
+    if (p.maxDisparity < 1) fail("max_disparity must be positive");
+    if (p.knnK < 2 || p.knnTheta <= 0) fail("knn_k must be >= 2 and knn_theta positive");
+    if (p.gridCellMm <= 0) fail("grid_cell_mm must be positive");
+    if (p.correlationPx < 1 || p.icpSampleStep < 1 || p.icpIterations < 1) {
+        fail("correlation_px, icp_sample_step and icp_iterations must be positive");
+    }
+    if (!p.roiPolygon.empty() && (p.roiPolygon.size() % 2 != 0 || p.roiPolygon.size() < 6)) {
+        fail("roi_polygon needs x, y pairs for at least 3 points");
+    }
+}
+
+}  // namespace
+
+struct VolumeChain::Impl {
+    calib::StereoCalibration calibration;
+    Parameters parameters;
+    Clock clock;
+    calib::Rectifier rectifier;
+    stereo::Matcher matcher;
+    cv::Mat polygonRoi;  // rectified; empty = segment
+    cv::Matx34d projection;
+    double focalPx = 0, baselineMm = 0;
+};
+
+namespace {
+
+stereo::Parameters matcherParameters() {
+    stereo::Parameters p;
+    // Filled holes are invented depth: a volume must be built from measurements only.
+    p.sgbmFillHoles = false;
+    return p;
+}
+
+}  // namespace
+
+VolumeChain::VolumeChain(const calib::StereoCalibration& calibration, const Parameters& parameters, Clock clock) {
+    checkParameters(parameters);
+    calib::StereoCalibration c = calibration;
+    calib::validateCalibration(c, "calibration");
+    if (c.Q.empty() || c.P1.empty()) calib::deriveRectification(c);
+    impl_ = std::make_unique<Impl>(Impl{c, parameters, std::move(clock), calib::Rectifier(c),
+                                        stereo::Matcher(parameters.stereoMethod, matcherParameters()), {},
+                                        cv::Matx34d(c.P1), c.rectifiedFocalPx(), c.baselineMm()});
+    if (!parameters.roiPolygon.empty()) {
+        impl_->polygonRoi = roiMaskFromPolygon(polygonFromFlat(parameters.roiPolygon), c);
+    }
+}
+
+VolumeChain::~VolumeChain() = default;
+VolumeChain::VolumeChain(VolumeChain&&) noexcept = default;
+VolumeChain& VolumeChain::operator=(VolumeChain&&) noexcept = default;
+
+const Parameters& VolumeChain::parameters() const { return impl_->parameters; }
+
+Surface VolumeChain::measureSurface(const cv::Mat& sideBySideFrame) {
+    Timings split;
+    StageTimer timer(impl_->clock, split);
+    const StereoPair raw = splitSideBySide(sideBySideFrame);
+    timer.lap("split");
+    Surface surface = measureSurface(raw);
+    surface.timingsMs.insert(surface.timingsMs.begin(), split.front());
+    return surface;
+}
+
+Surface VolumeChain::measureSurface(const StereoPair& raw) {
+    Surface s;
+    StageTimer timer(impl_->clock, s.timingsMs);
+    const StereoPair rectified = impl_->rectifier.rectify(raw);
+    s.rectifiedLeft = toGrey(rectified.left);
+    const cv::Mat rightGrey = toGrey(rectified.right);
+    timer.lap("rectify");
+    s.disparity = impl_->matcher.compute(s.rectifiedLeft, rightGrey, impl_->parameters.maxDisparity);
+    timer.lap("match");
+    s.points = reproject(s.disparity, impl_->calibration.Q);
+    timer.lap("reproject");
+    s.roi = impl_->polygonRoi.empty() ? segmentRoi(s.points, impl_->parameters.segmentationBandMm)
+                                      : impl_->polygonRoi.clone();
+    s.quality = measureImageQuality(s.rectifiedLeft, s.roi);
+    const int inside = cv::countNonZero(s.roi);
+    s.validPercent = inside > 0 ? 100.0 * cv::countNonZero((s.disparity >= 0) & s.roi) / inside : 0.0;
+    timer.lap("region");
+    return s;
+}
+
+VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& current) {
+    const Parameters& p = impl_->parameters;
+    VolumeResult result;
+    StageTimer timer(impl_->clock, result.timingsMs);
+    if (baseline.points.empty() || current.points.empty() || baseline.points.size() != current.points.size()) {
+        throw InvalidInput("volume: baseline and current surfaces must come from the same calibration");
+    }
+    result.validPercent = current.validPercent;
+
+    // --- gate on the images ---
+    if (cv::countNonZero(baseline.roi) == 0) return refused(result, "no region of interest in the baseline");
+    for (const auto& [surface, which] : {std::pair{&baseline, "baseline"}, std::pair{&current, "current"}}) {
+        if (auto problem = imageProblem(surface->quality, p, which)) return refused(result, *problem);
+        if (surface->validPercent < p.minValidPercent) {
+            std::ostringstream reason;
+            reason.precision(3);
+            reason << "too few valid disparities in the " << which << " region: " << surface->validPercent
+                   << " % < " << p.minValidPercent << " %";
+            return refused(result, reason.str());
+        }
+    }
+
+    // --- the baseline's measured points and its plane frame ---
+    cv::Mat measured;
+    cv::erode(baseline.roi, measured,
+              cv::getStructuringElement(cv::MORPH_ELLIPSE, {2 * p.edgeMarginPx + 1, 2 * p.edgeMarginPx + 1}));
+    std::vector<cv::Vec3d> baselinePoints;
+    for (int y = 0; y < measured.rows; ++y)
+        for (int x = 0; x < measured.cols; ++x) {
+            const cv::Vec3f q = baseline.points.at<cv::Vec3f>(y, x);
+            if (measured.at<std::uint8_t>(y, x) && validPoint(q)) baselinePoints.emplace_back(q[0], q[1], q[2]);
+            else measured.at<std::uint8_t>(y, x) = 0;
+        }
+    if (static_cast<int>(baselinePoints.size()) < p.minPoints) {
+        return refused(result, "too few baseline points in the region: " + std::to_string(baselinePoints.size()));
+    }
+    const PlaneFrame plane = fitPlane(baselinePoints);
+    const double depthMm = plane.origin[2];
+    timer.lap("plane");
+
+    // --- register the current capture onto the baseline ---
+    const int step = p.icpSampleStep;
+    std::vector<cv::Vec3d> samples;
+    std::vector<cv::Point> samplePixels;
+    auto sampleCurrent = [&](const cv::Mat& where) {
+        samples.clear();
+        samplePixels.clear();
+        for (int y = 0; y < current.points.rows; y += step)
+            for (int x = 0; x < current.points.cols; x += step) {
+                const cv::Vec3f q = current.points.at<cv::Vec3f>(y, x);
+                if (where.at<std::uint8_t>(y, x) && validPoint(q)) {
+                    samples.emplace_back(q[0], q[1], q[2]);
+                    samplePixels.emplace_back(x / step, y / step);
+                }
+            }
+    };
+    sampleCurrent(measured);  // the object moves a few pixels at most: a first fit from where it was
+    const cv::Mat normals = organizedNormals(baseline.points, 3);
+    RegistrationOptions options{p.icpIterations, p.icpConvergenceMm, p.icpTrimSigma};
+    RegistrationResult registration =
+        registerPointToPlane(baseline.points, normals, measured, impl_->projection, samples, {}, {}, options);
+    // Again, from where the object now is and without the places that look changed: sky seen
+    // where the object was, and ice, would otherwise pull the fit towards themselves.
+    const cv::Mat currentOutline = outlineInCurrent(baseline.roi, plane, registration.transform, impl_->projection,
+                                                    p.edgeMarginPx);
+    sampleCurrent(currentOutline);
+    RegistrationOptions evaluateOnly = options;
+    evaluateOnly.iterations = 0;
+    registration.residualsMm = registerPointToPlane(baseline.points, normals, measured, impl_->projection, samples, {},
+                                                    registration.transform, evaluateOnly)
+                                   .residualsMm;
+    cv::Mat residualMap((current.points.rows + step - 1) / step, (current.points.cols + step - 1) / step, CV_64F,
+                        cv::Scalar(kNaN));
+    for (std::size_t i = 0; i < samples.size(); ++i) residualMap.at<double>(samplePixels[i]) = registration.residualsMm[i];
+    const cv::Mat averaged = localMean(residualMap, std::max(2, 8 / step));
+    // Changed = the local mean residual stands out of its own noise (3 robust σ, at least
+    // change_threshold_mm). The cut is symmetric: cutting only the ice side would cut the noise's
+    // positive half too and push the whole fit forwards.
+    std::vector<double> localValues;
+    for (std::size_t i = 0; i < samples.size(); ++i) {
+        const double a = averaged.at<double>(samplePixels[i]);
+        if (!std::isnan(a)) localValues.push_back(a);
+    }
+    double localSigma = 0;
+    if (!localValues.empty()) {
+        std::vector<double> sorted = localValues;
+        const auto mid = sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2);
+        std::nth_element(sorted.begin(), mid, sorted.end());
+        const double centre = *mid;
+        for (double& v : sorted) v = std::abs(v - centre);
+        std::nth_element(sorted.begin(), mid, sorted.end());
+        localSigma = 1.4826 * *mid;
+    }
+    const double changeCut = std::max(p.changeThresholdMm, 3.0 * localSigma);
+    std::vector<std::uint8_t> unchanged(samples.size(), 0);
+    for (std::size_t i = 0; i < samples.size(); ++i) {
+        const double a = averaged.at<double>(samplePixels[i]);
+        unchanged[i] = !std::isnan(a) && std::abs(a) < changeCut;
+    }
+    registration = registerPointToPlane(baseline.points, normals, measured, impl_->projection, samples, unchanged,
+                                        registration.transform, options);
+    const RigidTransform& transform = registration.transform;
+    result.registrationMm = cv::norm(transform.apply(plane.origin) - plane.origin);
+    result.registrationDeg = std::acos(std::clamp((cv::trace(transform.rotation) - 1.0) / 2.0, -1.0, 1.0)) * 180.0 / kPi;
+    result.registrationRmsMm = registration.sigmaMm;
+    timer.lap("register");
+    if (!registration.converged) return refused(result, "registration did not converge");
+    if (result.registrationMm > p.maxRegistrationMm) {
+        return refused(result, "registration moved the object by " + std::to_string(result.registrationMm) +
+                                   " mm, more than max_registration_mm");
+    }
+    if (registration.sigmaMm > p.maxRegistrationRmsMm) {
+        return refused(result, "surfaces disagree after registration: residual " +
+                                   std::to_string(registration.sigmaMm) + " mm");
+    }
+
+    // --- both clouds in plane coordinates; implausible current points out; k-NN filter ---
+    const double behindMm = std::max(10.0, 6.0 * registration.sigmaMm);
+    double hMin = std::numeric_limits<double>::infinity(), hMax = -hMin;
+    cv::Mat baselinePlane(baseline.points.size(), CV_64FC3, cv::Scalar::all(kNaN));
+    std::vector<cv::Point3d> baselineList;
+    std::vector<cv::Point> baselineAt;
+    for (int y = 0; y < measured.rows; ++y)
+        for (int x = 0; x < measured.cols; ++x) {
+            if (!measured.at<std::uint8_t>(y, x)) continue;
+            const cv::Vec3f q = baseline.points.at<cv::Vec3f>(y, x);
+            const cv::Point3d local = plane.toPlane(cv::Vec3d(q[0], q[1], q[2]));
+            hMin = std::min(hMin, local.z);
+            hMax = std::max(hMax, local.z);
+            baselineList.push_back(local);
+            baselineAt.emplace_back(x, y);
+        }
+    std::vector<cv::Point3d> currentList;
+    std::vector<cv::Point> currentAt;
+    for (int y = 0; y < current.points.rows; ++y)
+        for (int x = 0; x < current.points.cols; ++x) {
+            const cv::Vec3f q = current.points.at<cv::Vec3f>(y, x);
+            if (!currentOutline.at<std::uint8_t>(y, x) || !validPoint(q)) continue;
+            const cv::Point3d local = plane.toPlane(transform.apply(cv::Vec3d(q[0], q[1], q[2])));
+            if (local.z < hMin - behindMm || local.z > hMax + p.maxThicknessMm) continue;  // background, sky
+            currentList.push_back(local);
+            currentAt.emplace_back(x, y);
+        }
+    const auto keepBaseline = knnKeepMask(baselineList, p.knnK, p.knnTheta);
+    const auto keepCurrent = knnKeepMask(currentList, p.knnK, p.knnTheta);
+    cv::Mat currentPlane(current.points.size(), CV_64FC3, cv::Scalar::all(kNaN));
+    for (std::size_t i = 0; i < baselineList.size(); ++i)
+        if (keepBaseline[i]) baselinePlane.at<cv::Vec3d>(baselineAt[i]) = cv::Vec3d(baselineList[i]);
+    for (std::size_t i = 0; i < currentList.size(); ++i)
+        if (keepCurrent[i]) {
+            currentPlane.at<cv::Vec3d>(currentAt[i]) = cv::Vec3d(currentList[i]);
+            ++result.pointsUsed;
+        }
+    timer.lap("filter");
+    if (result.pointsUsed < p.minPoints) {
+        return refused(result, "too few current points in the region: " + std::to_string(result.pointsUsed));
+    }
+
+    // --- grid over the region on the plane; linear interpolation of both surfaces ---
+    std::vector<std::vector<cv::Point>> contours;
+    cv::findContours(baseline.roi.clone(), contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
+    const cv::Matx33d k = impl_->projection.get_minor<3, 3>(0, 0);
+    const cv::Matx33d kInv = k.inv();
+    double uMin = 1e18, uMax = -1e18, vMin = 1e18, vMax = -1e18;
+    for (const auto& contour : contours)
+        for (const cv::Point& px : contour) {
+            const cv::Vec3d ray = kInv * cv::Vec3d(px.x, px.y, 1.0);
+            const double t = plane.normal.dot(plane.origin) / plane.normal.dot(ray);  // ray meets plane
+            const cv::Point3d local = plane.toPlane(t * ray);
+            uMin = std::min(uMin, local.x);
+            uMax = std::max(uMax, local.x);
+            vMin = std::min(vMin, local.y);
+            vMax = std::max(vMax, local.y);
+        }
+    const GridSpec grid = makeGrid(uMin, uMax, vMin, vMax, p.gridCellMm);
+    cv::Mat baselineHeight = interpolateLattice(baselinePlane, grid);
+    const cv::Mat currentHeight = interpolateLattice(currentPlane, grid);
+    // Which nodes lie inside the outline: project each node, at the baseline's height, into the
+    // left image (the plane alone would misplace nodes by the blade's camber).
+    cv::Mat everywhere(grid.nv, grid.nu, CV_8U, cv::Scalar(255));
+    cv::Mat baselineFilled = baselineHeight.clone();
+    fillFromNearest(baselineFilled, everywhere);
+    cv::Mat inside(grid.nv, grid.nu, CV_8U, cv::Scalar(0));
+    for (int j = 0; j < grid.nv; ++j)
+        for (int i = 0; i < grid.nu; ++i) {
+            const double h = baselineFilled.at<double>(j, i);
+            const cv::Vec3d node = plane.toCamera(grid.u0 + i * grid.du, grid.v0 + j * grid.dv, std::isnan(h) ? 0.0 : h);
+            const cv::Vec3d image = k * node;
+            const int x = static_cast<int>(std::lround(image[0] / image[2]));
+            const int y = static_cast<int>(std::lround(image[1] / image[2]));
+            if (x >= 0 && y >= 0 && x < baseline.roi.cols && y < baseline.roi.rows && baseline.roi.at<std::uint8_t>(y, x)) {
+                inside.at<std::uint8_t>(j, i) = 255;
+            }
+        }
+    cv::Mat thickness(grid.nv, grid.nu, CV_64F, cv::Scalar(kNaN));
+    int insideCount = 0;
+    for (int j = 0; j < grid.nv; ++j)
+        for (int i = 0; i < grid.nu; ++i) {
+            if (!inside.at<std::uint8_t>(j, i)) continue;
+            ++insideCount;
+            thickness.at<double>(j, i) = currentHeight.at<double>(j, i) - baselineHeight.at<double>(j, i);
+        }
+    if (insideCount == 0) return refused(result, "the region covers no part of the measured surface");
+    const int filled = fillFromNearest(thickness, inside);
+    result.filledPercent = 100.0 * filled / insideCount;
+    timer.lap("grid");
+    if (result.filledPercent > p.maxFilledPercent) {
+        std::ostringstream reason;
+        reason.precision(3);
+        reason << result.filledPercent << " % of the region has no measurement (max " << p.maxFilledPercent << " %)";
+        return refused(result, reason.str());
+    }
+
+    // --- integrate ---
+    result.volumeMm3 = integrate(thickness, grid, p.integration);
+    result.areaMm2 = insideCount * grid.areaPerNodeMm2();
+    result.meanThicknessMm = result.volumeMm3 / result.areaMm2;
+    const cv::Mat smoothThickness = localMean(thickness, 2);
+    double maxT = 0;
+    for (int j = 0; j < grid.nv; ++j)
+        for (int i = 0; i < grid.nu; ++i)
+            if (inside.at<std::uint8_t>(j, i) && !std::isnan(smoothThickness.at<double>(j, i))) {
+                maxT = std::max(maxT, smoothThickness.at<double>(j, i));
+            }
+    result.maxThicknessMm = maxT;
+    timer.lap("integrate");
+
+    // --- uncertainty ---
+    const double depthPerPxMm = depthMm * depthMm / (impl_->focalPx * impl_->baselineMm);  // ΔZ of 1 px
+    const double pixelMm = depthMm / impl_->focalPx;
+    const double pointSigmaMm = std::max(std::sqrt(2.0) * depthPerPxMm * p.disparityNoisePx, registration.sigmaMm);
+    const double independent = std::max(1.0, result.pointsUsed / double(p.correlationPx * p.correlationPx));
+    result.budget.noiseMm3 = result.areaMm2 * pointSigmaMm / std::sqrt(independent);
+    // The registration's covariance, its residuals correlated over the matcher's window.
+    const double correlatedSamples = std::max(1.0, double(p.correlationPx) / step);
+    cv::Vec6d gradient(0, 0, 0, 0, 0, 0);
+    for (int j = 0; j < grid.nv; ++j)
+        for (int i = 0; i < grid.nu; ++i) {
+            if (!inside.at<std::uint8_t>(j, i)) continue;
+            const double h = baselineFilled.at<double>(j, i);
+            const cv::Vec3d node = plane.toCamera(grid.u0 + i * grid.du, grid.v0 + j * grid.dv, std::isnan(h) ? 0.0 : h);
+            const cv::Vec3d c = node.cross(plane.normal);
+            const cv::Vec6d g(c[0], c[1], c[2], plane.normal[0], plane.normal[1], plane.normal[2]);
+            gradient += g * grid.areaPerNodeMm2();
+        }
+    const cv::Matx66d covariance = registration.covariance * (correlatedSamples * correlatedSamples);
+    result.budget.registrationMm3 = std::sqrt(std::max(0.0, (gradient.t() * covariance * gradient)(0)));
+    result.budget.biasMm3 = p.subpixelBiasPx * depthPerPxMm * result.areaMm2;
+    // Edges: a shift of σ_e of every edge of height H and length L moves σ_e·H·L, i.e. σ_e·∫|∇t|.
+    // The noise floor of |∇t| (its median) is taken off so that noise does not pass for edges.
+    const cv::Mat smoothed = localMean(thickness, 3);
+    std::vector<double> gradients;
+    for (int j = 1; j + 1 < grid.nv; ++j)
+        for (int i = 1; i + 1 < grid.nu; ++i) {
+            if (!inside.at<std::uint8_t>(j, i)) continue;
+            const double gx = (smoothed.at<double>(j, i + 1) - smoothed.at<double>(j, i - 1)) / (2 * grid.du);
+            const double gy = (smoothed.at<double>(j + 1, i) - smoothed.at<double>(j - 1, i)) / (2 * grid.dv);
+            const double g = std::hypot(gx, gy);
+            if (!std::isnan(g)) gradients.push_back(g);
+        }
+    double edgeIntegral = 0;
+    if (!gradients.empty()) {
+        std::vector<double> sorted = gradients;
+        std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
+        const double floor = sorted[sorted.size() / 2];
+        for (double g : gradients) edgeIntegral += std::max(0.0, g - floor) * grid.areaPerNodeMm2();
+    }
+    result.budget.edgeMm3 = p.edgeUncertaintyPx * pixelMm * edgeIntegral;
+    const UncertaintyBudget& b = result.budget;
+    result.uncertaintyMm3 = p.coverageFactor * std::sqrt(b.noiseMm3 * b.noiseMm3 + b.registrationMm3 * b.registrationMm3 +
+                                                         b.biasMm3 * b.biasMm3 + b.edgeMm3 * b.edgeMm3);
+    timer.lap("uncertainty");
+
+    // --- debug output for people ---
+    double dMin = 1e9, dMax = -1e9;
+    for (int y = 0; y < current.disparity.rows; ++y)
+        for (int x = 0; x < current.disparity.cols; ++x) {
+            const float d = current.disparity.at<float>(y, x);
+            if (d >= 0) {
+                dMin = std::min<double>(dMin, d);
+                dMax = std::max<double>(dMax, d);
+            }
+        }
+    result.disparityColour = falseColour(current.disparity, dMin, std::max(dMax, dMin + 1));
+    cv::Mat shownThickness = smoothThickness.clone();
+    shownThickness.setTo(kNaN, inside == 0);
+    result.thicknessColour = falseColour(shownThickness, 0.0, std::max(1.0, maxT));
+    for (int y = 0; y < currentPlane.rows; ++y)
+        for (int x = 0; x < currentPlane.cols; ++x) {
+            const cv::Vec3d local = currentPlane.at<cv::Vec3d>(y, x);
+            if (std::isnan(local[2])) continue;
+            const int i = static_cast<int>(std::lround((local[0] - grid.u0) / grid.du));
+            const int j = static_cast<int>(std::lround((local[1] - grid.v0) / grid.dv));
+            const bool onGrid = i >= 0 && j >= 0 && i < grid.nu && j < grid.nv;
+            result.cloudMm.push_back(cv::Vec3f(plane.toCamera(local[0], local[1], local[2])));
+            result.cloudThicknessMm.push_back(onGrid ? static_cast<float>(thickness.at<double>(j, i)) : 0.0f);
+        }
+    result.ok = true;
+    timer.lap("gate");
+    return result;
+}
+
+}  // namespace icewatch::volume

@@ -1,0 +1,94 @@
+#pragma once
+
+#include <chrono>
+#include <functional>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "core/calib/stereo_calibration.hpp"
+#include "core/common/side_by_side.hpp"
+#include "core/volume/image_quality.hpp"
+#include "core/volume/parameters.hpp"
+
+namespace icewatch::volume {
+
+// Stage name -> milliseconds, in the order the stages ran.
+using Timings = std::vector<std::pair<std::string, double>>;
+
+// One capture measured: everything estimate() needs, so the daemon can keep the baseline's.
+struct Surface {
+    cv::Mat rectifiedLeft;  // CV_8U grey, rectified left eye
+    cv::Mat disparity;      // CV_32F, px, stereo::kInvalidDisparity where none
+    cv::Mat points;         // CV_32FC3, mm, left rectified camera frame, NaN where none
+    cv::Mat roi;            // CV_8U, 255 inside the object's outline (rectified left pixels)
+    ImageQuality quality;   // of the left eye inside the region
+    double validPercent = 0;  // valid disparities inside the region
+    Timings timingsMs;
+};
+
+struct UncertaintyBudget {
+    double noiseMm3 = 0;          // per-point depth noise over the independent samples
+    double registrationMm3 = 0;   // the registration's own uncertainty, propagated
+    double biasMm3 = 0;           // systematic sub-pixel disparity bias
+    double edgeMm3 = 0;           // where the ice's edges are
+};
+
+struct VolumeResult {
+    bool ok = false;
+    std::string reason;  // why it was refused
+    double volumeMm3 = 0;
+    double uncertaintyMm3 = 0;  // expanded (coverageFactor · σ)
+    UncertaintyBudget budget;   // 1-σ parts
+    double meanThicknessMm = 0;  // volume / area of the region
+    double maxThicknessMm = 0;   // of the locally averaged thickness map
+    double areaMm2 = 0;          // of the region on the object's plane
+    int pointsUsed = 0;          // current points that built the surface
+    double validPercent = 0;     // valid disparities in the region, current capture
+    double filledPercent = 0;    // grid area with no measurement, filled from the nearest
+    double registrationMm = 0;   // how far the current capture moved the region's centre
+    double registrationDeg = 0;  // and turned
+    double registrationRmsMm = 0;
+    Timings timingsMs;
+
+    // For people: false-colour disparity (current), thickness map, current cloud in the
+    // baseline's frame with its thickness.
+    cv::Mat disparityColour;
+    cv::Mat thicknessColour;
+    std::vector<cv::Vec3f> cloudMm;
+    std::vector<float> cloudThicknessMm;
+};
+
+// The volume chain: split → rectify → match → reproject (measureSurface), then register →
+// filter → grid → integrate → uncertainty → gate (estimate). Not thread-safe (one matcher).
+class VolumeChain {
+public:
+    using Clock = std::function<std::chrono::steady_clock::time_point()>;
+
+    // Throws Error(kExitConfig) on parameters it cannot use; `clock` times the stages (none: 0 ms).
+    VolumeChain(const calib::StereoCalibration& calibration, const Parameters& parameters, Clock clock = {});
+    ~VolumeChain();
+    VolumeChain(VolumeChain&&) noexcept;
+    VolumeChain& operator=(VolumeChain&&) noexcept;
+
+    // A side-by-side camera frame or an unrectified pair. The region is the configured polygon,
+    // or segmented from this capture when there is none. Throws InvalidInput when the frame does
+    // not fit the calibration.
+    Surface measureSurface(const cv::Mat& sideBySideFrame);
+    Surface measureSurface(const StereoPair& raw);
+
+    // The ice between a baseline (clean) and a current surface, inside the baseline's region.
+    // A result that is not ok carries a reason and no volume.
+    VolumeResult estimate(const Surface& baseline, const Surface& current);
+
+    const Parameters& parameters() const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace icewatch::volume

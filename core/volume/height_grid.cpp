@@ -1,0 +1,199 @@
+// From scattered points to a volume: the object's plane frame, the regular grid, linear
+// interpolation of the points onto it and the two integration rules of the seed paper.
+#include "core/volume/height_grid.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <opencv2/imgproc.hpp>
+
+#include "core/common/error.hpp"
+
+namespace icewatch::volume {
+
+namespace {
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+}
+
+PlaneFrame fitPlane(const std::vector<cv::Vec3d>& points) {
+    if (points.size() < 3) {
+        throw InvalidInput("plane fit needs at least 3 points");
+    }
+    cv::Vec3d mean(0, 0, 0);
+    for (const auto& p : points) mean += p;
+    mean /= static_cast<double>(points.size());
+    cv::Matx33d scatter = cv::Matx33d::zeros();
+    for (const auto& p : points) {
+        const cv::Vec3d d = p - mean;
+        scatter += d * d.t();
+    }
+    cv::Mat eigenvalues, eigenvectors;
+    cv::eigen(cv::Mat(scatter), eigenvalues, eigenvectors);  // descending eigenvalues
+    PlaneFrame frame;
+    frame.origin = mean;
+    frame.axisU = cv::Vec3d(eigenvectors.row(0));
+    frame.normal = cv::Vec3d(eigenvectors.row(2));
+    if (frame.normal.dot(mean) > 0) {
+        frame.normal = -frame.normal;  // towards the camera
+    }
+    // Keep u roughly along the image's x for readable maps, and the frame right-handed.
+    if (frame.axisU[0] < 0) frame.axisU = -frame.axisU;
+    frame.axisV = frame.normal.cross(frame.axisU);
+    return frame;
+}
+
+GridSpec makeGrid(double uMin, double uMax, double vMin, double vMax, double cellMm) {
+    if (!(uMax > uMin) || !(vMax > vMin) || !(cellMm > 0)) {
+        throw InvalidInput("grid: the region must have a positive extent and the cell a positive size");
+    }
+    GridSpec grid;
+    grid.nu = static_cast<int>(std::ceil((uMax - uMin) / cellMm)) + 1;
+    grid.nv = static_cast<int>(std::ceil((vMax - vMin) / cellMm)) + 1;
+    if (static_cast<double>(grid.nu) * grid.nv > 5e7) {
+        throw InvalidInput("grid: " + std::to_string(grid.nu) + " x " + std::to_string(grid.nv) +
+                           " nodes is too many; use a larger cell");
+    }
+    grid.u0 = uMin;
+    grid.v0 = vMin;
+    grid.du = (uMax - uMin) / (grid.nu - 1);
+    grid.dv = (vMax - vMin) / (grid.nv - 1);
+    return grid;
+}
+
+cv::Mat interpolateLattice(const cv::Mat& planePoints, const GridSpec& grid) {
+    CV_Assert(planePoints.type() == CV_64FC3);
+    // Noise moves points sideways as well as in depth, so neighbouring triangles can overlap a
+    // little: a node covered twice gets the mean (taking the front one would bias upwards).
+    cv::Mat sum(grid.nv, grid.nu, CV_64F, cv::Scalar(0.0)), count(grid.nv, grid.nu, CV_32S, cv::Scalar(0));
+    auto valid = [](const cv::Vec3d& p) { return !std::isnan(p[2]); };
+    auto rasterTriangle = [&](const cv::Vec3d& a, const cv::Vec3d& b, const cv::Vec3d& c) {
+        // In grid index space.
+        const double ax = (a[0] - grid.u0) / grid.du, ay = (a[1] - grid.v0) / grid.dv;
+        const double bx = (b[0] - grid.u0) / grid.du, by = (b[1] - grid.v0) / grid.dv;
+        const double cx = (c[0] - grid.u0) / grid.du, cy = (c[1] - grid.v0) / grid.dv;
+        const double area = (bx - ax) * (cy - ay) - (cx - ax) * (by - ay);
+        if (std::abs(area) < 1e-12) return;
+        const int x0 = std::max(0, static_cast<int>(std::ceil(std::min({ax, bx, cx}))));
+        const int x1 = std::min(grid.nu - 1, static_cast<int>(std::floor(std::max({ax, bx, cx}))));
+        const int y0 = std::max(0, static_cast<int>(std::ceil(std::min({ay, by, cy}))));
+        const int y1 = std::min(grid.nv - 1, static_cast<int>(std::floor(std::max({ay, by, cy}))));
+        const double invArea = 1.0 / area;
+        constexpr double kEdge = -1e-9;  // nodes exactly on a shared edge belong to both
+        for (int y = y0; y <= y1; ++y) {
+            auto* sumRow = sum.ptr<double>(y);
+            auto* countRow = count.ptr<int>(y);
+            for (int x = x0; x <= x1; ++x) {
+                const double wa = ((bx - x) * (cy - y) - (cx - x) * (by - y)) * invArea;
+                const double wb = ((cx - x) * (ay - y) - (ax - x) * (cy - y)) * invArea;
+                const double wc = 1.0 - wa - wb;
+                if (wa < kEdge || wb < kEdge || wc < kEdge) continue;
+                const double h = wa * a[2] + wb * b[2] + wc * c[2];
+                sumRow[x] += h;
+                ++countRow[x];
+            }
+        }
+    };
+    for (int y = 0; y + 1 < planePoints.rows; ++y) {
+        const auto* top = planePoints.ptr<cv::Vec3d>(y);
+        const auto* bottom = planePoints.ptr<cv::Vec3d>(y + 1);
+        for (int x = 0; x + 1 < planePoints.cols; ++x) {
+            const cv::Vec3d &a = top[x], &b = top[x + 1], &c = bottom[x], &d = bottom[x + 1];
+            const bool va = valid(a), vb = valid(b), vc = valid(c), vd = valid(d);
+            const int corners = va + vb + vc + vd;
+            if (corners == 4) {
+                rasterTriangle(a, b, d);
+                rasterTriangle(a, d, c);
+            } else if (corners == 3) {
+                if (!va) rasterTriangle(b, d, c);
+                if (!vb) rasterTriangle(a, d, c);
+                if (!vc) rasterTriangle(a, b, d);
+                if (!vd) rasterTriangle(a, b, c);
+            }
+        }
+    }
+    cv::Mat values(grid.nv, grid.nu, CV_64F, cv::Scalar(kNaN));
+    for (int y = 0; y < grid.nv; ++y)
+        for (int x = 0; x < grid.nu; ++x) {
+            const int n = count.at<int>(y, x);
+            if (n > 0) values.at<double>(y, x) = sum.at<double>(y, x) / n;
+        }
+    return values;
+}
+
+int fillFromNearest(cv::Mat& values, const cv::Mat& inside) {
+    CV_Assert(values.type() == CV_64F && inside.type() == CV_8U && inside.size() == values.size());
+    cv::Mat sources(values.size(), CV_8U);
+    int missing = 0, present = 0;
+    for (int y = 0; y < values.rows; ++y) {
+        const auto* v = values.ptr<double>(y);
+        const auto* in = inside.ptr<std::uint8_t>(y);
+        auto* s = sources.ptr<std::uint8_t>(y);
+        for (int x = 0; x < values.cols; ++x) {
+            const bool have = !std::isnan(v[x]);
+            s[x] = have ? 0 : 255;  // distanceTransform measures to the zero pixels
+            present += have;
+            missing += (!have && in[x]);
+        }
+    }
+    if (missing == 0 || present == 0) {
+        return 0;
+    }
+    cv::Mat distance, labels;
+    cv::distanceTransform(sources, distance, labels, cv::DIST_L2, cv::DIST_MASK_5, cv::DIST_LABEL_PIXEL);
+    std::vector<double> valueOfLabel(static_cast<std::size_t>(present) + 2, kNaN);
+    for (int y = 0; y < values.rows; ++y) {
+        const auto* v = values.ptr<double>(y);
+        const auto* l = labels.ptr<int>(y);
+        for (int x = 0; x < values.cols; ++x) {
+            if (!std::isnan(v[x])) {
+                const auto label = static_cast<std::size_t>(l[x]);
+                if (label >= valueOfLabel.size()) valueOfLabel.resize(label + 1, kNaN);
+                valueOfLabel[label] = v[x];
+            }
+        }
+    }
+    int filled = 0;
+    for (int y = 0; y < values.rows; ++y) {
+        auto* v = values.ptr<double>(y);
+        const auto* in = inside.ptr<std::uint8_t>(y);
+        const auto* l = labels.ptr<int>(y);
+        for (int x = 0; x < values.cols; ++x) {
+            if (in[x] && std::isnan(v[x])) {
+                const auto label = static_cast<std::size_t>(l[x]);
+                if (label < valueOfLabel.size() && !std::isnan(valueOfLabel[label])) {
+                    v[x] = valueOfLabel[label];
+                    ++filled;
+                }
+            }
+        }
+    }
+    return filled;
+}
+
+double integrate(const cv::Mat& values, const GridSpec& grid, Integration method) {
+    CV_Assert(values.type() == CV_64F && values.rows == grid.nv && values.cols == grid.nu);
+    auto at = [&](int y, int x) {
+        const double v = values.at<double>(y, x);
+        return std::isnan(v) ? 0.0 : v;
+    };
+    if (method == Integration::Sum) {
+        double sum = 0;
+        for (int y = 0; y < grid.nv; ++y)
+            for (int x = 0; x < grid.nu; ++x) sum += at(y, x);
+        return sum * grid.du * grid.dv;
+    }
+    std::vector<double> rowIntegral(static_cast<std::size_t>(grid.nv), 0.0);
+    for (int y = 0; y < grid.nv; ++y) {
+        double s = 0;
+        for (int x = 0; x + 1 < grid.nu; ++x) s += 0.5 * (at(y, x) + at(y, x + 1)) * grid.du;
+        rowIntegral[static_cast<std::size_t>(y)] = s;
+    }
+    double volume = 0;
+    for (std::size_t y = 0; y + 1 < rowIntegral.size(); ++y) {
+        volume += 0.5 * (rowIntegral[y] + rowIntegral[y + 1]) * grid.dv;
+    }
+    return volume;
+}
+
+}  // namespace icewatch::volume

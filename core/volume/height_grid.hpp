@@ -1,0 +1,54 @@
+#pragma once
+
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "core/volume/parameters.hpp"
+
+namespace icewatch::volume {
+
+// A frame on the object's mean plane: u, v in the plane, h along the normal towards the camera.
+// Ice thickness is the difference of h between the current and the baseline surface.
+struct PlaneFrame {
+    cv::Vec3d origin;
+    cv::Vec3d axisU, axisV, normal;
+
+    cv::Point3d toPlane(const cv::Vec3d& p) const {
+        const cv::Vec3d d = p - origin;
+        return {d.dot(axisU), d.dot(axisV), d.dot(normal)};
+    }
+    cv::Vec3d toCamera(double u, double v, double h) const { return origin + u * axisU + v * axisV + h * normal; }
+};
+
+// Least-squares plane (PCA) through the points; the normal points towards the camera (origin).
+// Throws InvalidInput with fewer than 3 points.
+PlaneFrame fitPlane(const std::vector<cv::Vec3d>& points);
+
+// A regular Nu × Nv grid: node (i, j) at (u0 + i·du, v0 + j·dv).
+struct GridSpec {
+    double u0 = 0, v0 = 0, du = 1, dv = 1;
+    int nu = 0, nv = 0;
+    double areaPerNodeMm2() const { return du * dv; }
+};
+
+// The grid over [uMin, uMax] × [vMin, vMax] with N = ceil(extent / cell) + 1 nodes per axis and
+// Δ = extent / (N - 1), as the seed paper defines it.
+GridSpec makeGrid(double uMin, double uMax, double vMin, double vMax, double cellMm);
+
+// Linear interpolation of an organised point cloud onto the grid. `planePoints` (CV_64FC3: u, v, h
+// per pixel, NaN where there is no point) is triangulated along its pixel lattice (two triangles
+// per 2×2 block, one when a corner is missing), which is the Delaunay triangulation of a lattice
+// and never bridges a hole; every grid node inside a triangle gets the barycentric blend of its
+// corners' h, the mean where noise makes triangles overlap. CV_64F Nv × Nu, NaN = not covered.
+cv::Mat interpolateLattice(const cv::Mat& planePoints, const GridSpec& grid);
+
+// Gives every NaN node with `inside` != 0 the value of its nearest non-NaN node. Returns how
+// many nodes were filled.
+int fillFromNearest(cv::Mat& values, const cv::Mat& inside);
+
+// ∫∫ values over the grid, NaN nodes counting as zero. Trapz: trapezoidal rule over u, then v.
+// Sum: Σ values·Δu·Δv.
+double integrate(const cv::Mat& values, const GridSpec& grid, Integration method);
+
+}  // namespace icewatch::volume

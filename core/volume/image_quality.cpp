@@ -1,0 +1,46 @@
+// Image health for the quality gate: a wrong number is worse than none, so a dark, saturated,
+// blurred or textureless capture is refused before it is measured. The blur before the gradient
+// keeps sensor noise from passing for texture.
+#include "core/volume/image_quality.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include <opencv2/imgproc.hpp>
+
+namespace icewatch::volume {
+
+ImageQuality measureImageQuality(const cv::Mat& grey, const cv::Mat& roi) {
+    CV_Assert(grey.type() == CV_8U && (roi.empty() || (roi.type() == CV_8U && roi.size() == grey.size())));
+    ImageQuality q;
+    cv::Mat mask = roi.empty() ? cv::Mat(grey.size(), CV_8U, cv::Scalar(255)) : roi;
+    const double count = cv::countNonZero(mask);
+    if (count == 0) return q;
+    q.meanGrey = cv::mean(grey, mask)[0];
+    cv::Mat saturated = (grey >= 250) & mask;
+    q.saturatedPercent = 100.0 * cv::countNonZero(saturated) / count;
+    cv::Mat smooth, gx, gy, magnitude;
+    cv::GaussianBlur(grey, smooth, cv::Size(0, 0), 1.5);
+    cv::Sobel(smooth, gx, CV_32F, 1, 0, 3, 1.0 / 8.0);
+    cv::Sobel(smooth, gy, CV_32F, 0, 1, 3, 1.0 / 8.0);
+    cv::magnitude(gx, gy, magnitude);
+    q.contrast = cv::mean(magnitude, mask)[0];
+    return q;
+}
+
+std::optional<std::string> imageProblem(const ImageQuality& q, const Parameters& p, const std::string& which) {
+    std::ostringstream reason;
+    reason.precision(3);
+    if (q.meanGrey < p.minMeanGrey) {
+        reason << which << " image too dark: mean grey " << q.meanGrey << " < " << p.minMeanGrey;
+    } else if (q.saturatedPercent > p.maxSaturatedPercent) {
+        reason << which << " image saturated: " << q.saturatedPercent << " % of the region at 250 or more";
+    } else if (q.contrast < p.minContrast) {
+        reason << which << " image blurred or without texture: contrast " << q.contrast << " < " << p.minContrast;
+    } else {
+        return std::nullopt;
+    }
+    return reason.str();
+}
+
+}  // namespace icewatch::volume

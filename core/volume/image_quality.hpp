@@ -1,0 +1,26 @@
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include <opencv2/core.hpp>
+
+#include "core/volume/parameters.hpp"
+
+namespace icewatch::volume {
+
+// What the quality gate looks at in an image, inside the region.
+struct ImageQuality {
+    double meanGrey = 0;          // 0..255
+    double saturatedPercent = 0;  // pixels at >= 250
+    double contrast = 0;          // mean gradient magnitude after a light blur, grey levels per pixel
+};
+
+// grey: CV_8U; roi: CV_8U mask (empty = whole image).
+ImageQuality measureImageQuality(const cv::Mat& grey, const cv::Mat& roi);
+
+// Why an image is unfit to measure, or nothing. `which` names it ("baseline", "current").
+std::optional<std::string> imageProblem(const ImageQuality& quality, const Parameters& parameters,
+                                        const std::string& which);
+
+}  // namespace icewatch::volume

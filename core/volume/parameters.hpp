@@ -1,0 +1,63 @@
+#pragma once
+
+#include <vector>
+
+#include "core/stereo/matcher.hpp"
+
+namespace icewatch::volume {
+
+enum class Integration {
+    Trapz,  // trapezoidal rule over x, then over y (the seed paper's choice)
+    Sum,    // V = Σ Z_ij·Δx·Δy
+};
+
+// Every tunable of the volume chain, with its default. Set from the configuration file's "volume"
+// section (config/icewatch.json documents each key).
+struct Parameters {
+    // --- matching ---
+    stereo::Method stereoMethod = stereo::Method::Paper;
+    int maxDisparity = 128;  // disparities searched: 0 .. maxDisparity-1
+
+    // --- region of interest ---
+    // The object's outline in left-eye pixels of the camera frame as x0, y0, x1, y1, ...; empty:
+    // segment it from the baseline capture (the largest surface at the dominant depth).
+    std::vector<double> roiPolygon;
+    int edgeMarginPx = 3;             // points this close to the outline are not measured (mixed depths)
+    double segmentationBandMm = 150;  // segmentation: depth band around the dominant depth
+
+    // --- registration (current capture onto the baseline) ---
+    int icpIterations = 50;
+    double icpConvergenceMm = 0.02;   // stop when an update moves the surface less than this
+    int icpSampleStep = 2;            // use every n-th pixel in x and y
+    double icpTrimSigma = 3.0;        // residuals beyond this many robust sigmas are left out
+    double changeThresholdMm = 0.8;   // locally averaged thickness above this = changed (ice), not used
+                                      // to register
+    double maxRegistrationMm = 30;    // a larger movement is refused (the camera or blade moved)
+    double maxRegistrationRmsMm = 6;  // surfaces that do not agree better than this are refused
+
+    // --- outlier filter (the seed paper, section 2.2) ---
+    int knnK = 8;             // neighbours in the plane
+    double knnTheta = 2.0;    // |z_i - mean| > θ·σ removes the point
+
+    // --- grid and integration ---
+    double gridCellMm = 1.0;  // Δx = Δy target; N = extent / cell + 1, then Δ = extent / (N - 1)
+    Integration integration = Integration::Trapz;
+    double maxThicknessMm = 200;  // a current point farther in front of the baseline is not ice
+
+    // --- uncertainty ---
+    double disparityNoisePx = 0.1;  // a-priori σ_d of one disparity (the data may show more)
+    int correlationPx = 5;          // disparities are correlated over about this many pixels (matcher window)
+    double subpixelBiasPx = 0.004;  // systematic sub-pixel disparity bias left after differencing
+    double edgeUncertaintyPx = 0.5; // where an edge of the ice is, ± this
+    double coverageFactor = 2.0;    // expanded uncertainty = k·σ (k = 2: about 95 %)
+
+    // --- quality gate ---
+    double minValidPercent = 50;      // valid disparities in the region
+    double minMeanGrey = 25;          // mean grey level in the region (0..255)
+    double maxSaturatedPercent = 20;  // pixels at >= 250
+    double minContrast = 1.0;         // mean gradient magnitude in the region, grey levels per pixel
+    int minPoints = 2000;             // points left to build each surface
+    double maxFilledPercent = 40;     // grid area interpolated from no measurement at all
+};
+
+}  // namespace icewatch::volume

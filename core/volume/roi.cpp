@@ -1,0 +1,107 @@
+// The region of interest: the object's outline, so sky, tower and background never count as ice.
+// A polygon drawn at commissioning (in the camera's own pixels) is mapped through the
+// rectification; without one the outline is segmented from the baseline's depth.
+#include "core/volume/roi.hpp"
+
+#include <cmath>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "core/common/error.hpp"
+
+namespace icewatch::volume {
+
+std::vector<cv::Point2d> loadRoiPolygon(const std::filesystem::path& path) {
+    const std::string where = path.string();
+    std::ifstream in(path);
+    if (!in) {
+        throw Error(kExitNoInput, where + ": cannot read the region of interest");
+    }
+    nlohmann::json json;
+    try {
+        json = nlohmann::json::parse(in);
+    } catch (const nlohmann::json::exception& e) {
+        throw Error(kExitDataErr, where + ": not valid JSON: " + e.what());
+    }
+    if (!json.is_object() || !json.contains("polygon") || !json["polygon"].is_array()) {
+        throw Error(kExitDataErr, where + ": polygon: missing or not an array of [x, y] points");
+    }
+    std::vector<cv::Point2d> polygon;
+    for (const auto& point : json["polygon"]) {
+        if (!point.is_array() || point.size() != 2 || !point[0].is_number() || !point[1].is_number()) {
+            throw Error(kExitDataErr, where + ": polygon: every point must be [x, y] numbers");
+        }
+        polygon.emplace_back(point[0].get<double>(), point[1].get<double>());
+    }
+    if (polygon.size() < 3) {
+        throw Error(kExitDataErr, where + ": polygon: needs at least 3 points");
+    }
+    return polygon;
+}
+
+std::vector<cv::Point2d> polygonFromFlat(const std::vector<double>& flat) {
+    if (flat.size() % 2 != 0 || flat.size() < 6) {
+        throw InvalidInput("region polygon: needs x, y pairs for at least 3 points");
+    }
+    std::vector<cv::Point2d> polygon;
+    for (std::size_t i = 0; i < flat.size(); i += 2) polygon.emplace_back(flat[i], flat[i + 1]);
+    return polygon;
+}
+
+cv::Mat roiMaskFromPolygon(const std::vector<cv::Point2d>& polygon, const calib::StereoCalibration& c) {
+    std::vector<cv::Point2d> rectified;
+    cv::undistortPoints(polygon, rectified, c.M1, c.D1, c.R1, c.P1);
+    std::vector<cv::Point> vertices;
+    for (const auto& p : rectified) vertices.emplace_back(static_cast<int>(std::lround(p.x)), static_cast<int>(std::lround(p.y)));
+    cv::Mat mask = cv::Mat::zeros(c.imageSize, CV_8U);
+    cv::fillPoly(mask, std::vector<std::vector<cv::Point>>{vertices}, cv::Scalar(255));
+    return mask;
+}
+
+cv::Mat segmentRoi(const cv::Mat& points, double depthBandMm) {
+    CV_Assert(points.type() == CV_32FC3);
+    // The dominant depth: the histogram's peak in 10 mm bins.
+    std::vector<int> histogram(1000, 0);
+    for (int y = 0; y < points.rows; ++y) {
+        const auto* row = points.ptr<cv::Vec3f>(y);
+        for (int x = 0; x < points.cols; ++x) {
+            const float z = row[x][2];
+            if (!std::isnan(z) && z > 0 && z < 10000) ++histogram[static_cast<std::size_t>(z / 10)];
+        }
+    }
+    const auto peak = std::max_element(histogram.begin(), histogram.end());
+    if (*peak == 0) return cv::Mat::zeros(points.size(), CV_8U);
+    const double dominantMm = (static_cast<double>(peak - histogram.begin()) + 0.5) * 10.0;
+    cv::Mat band = cv::Mat::zeros(points.size(), CV_8U);
+    for (int y = 0; y < points.rows; ++y) {
+        const auto* row = points.ptr<cv::Vec3f>(y);
+        auto* out = band.ptr<std::uint8_t>(y);
+        for (int x = 0; x < points.cols; ++x) {
+            if (!std::isnan(row[x][2]) && std::abs(row[x][2] - dominantMm) < depthBandMm) out[x] = 255;
+        }
+    }
+    const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_ELLIPSE, {7, 7});
+    cv::morphologyEx(band, band, cv::MORPH_OPEN, kernel);
+    cv::Mat labels, stats, centroids;
+    const int n = cv::connectedComponentsWithStats(band, labels, stats, centroids, 8);
+    int best = 0, bestArea = 0;
+    for (int i = 1; i < n; ++i) {
+        if (stats.at<int>(i, cv::CC_STAT_AREA) > bestArea) {
+            bestArea = stats.at<int>(i, cv::CC_STAT_AREA);
+            best = i;
+        }
+    }
+    cv::Mat mask = cv::Mat::zeros(points.size(), CV_8U);
+    if (best == 0) return mask;
+    mask.setTo(255, labels == best);
+    // Fill holes: the outer contour of the component.
+    std::vector<std::vector<cv::Point>> contours;
+    cv::findContours(mask.clone(), contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_SIMPLE);
+    cv::drawContours(mask, contours, -1, cv::Scalar(255), cv::FILLED);
+    return mask;
+}
+
+}  // namespace icewatch::volume

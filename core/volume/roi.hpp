@@ -1,0 +1,27 @@
+#pragma once
+
+#include <filesystem>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "core/calib/stereo_calibration.hpp"
+
+namespace icewatch::volume {
+
+// Reads roi.json: {"polygon": [[x, y], ...]} in left-eye pixels of the camera frame. Throws
+// Error(kExitDataErr / kExitNoInput) naming the file.
+std::vector<cv::Point2d> loadRoiPolygon(const std::filesystem::path& path);
+
+// x0, y0, x1, y1, ... (the configuration's form) to points; throws InvalidInput on an odd count or
+// fewer than 3 points.
+std::vector<cv::Point2d> polygonFromFlat(const std::vector<double>& flat);
+
+// The polygon, given in raw left-eye pixels, as a mask in rectified left pixels.
+cv::Mat roiMaskFromPolygon(const std::vector<cv::Point2d>& polygon, const calib::StereoCalibration& calibration);
+
+// Without a polygon: the largest connected surface at the dominant depth of the capture
+// (the blade fills most of a well-aimed view), holes filled. Empty mask if nothing is found.
+cv::Mat segmentRoi(const cv::Mat& points, double depthBandMm);
+
+}  // namespace icewatch::volume

@@ -1,0 +1,87 @@
+#include "core/volume/height_grid.hpp"
+
+#include <cmath>
+#include <functional>
+
+#include <gtest/gtest.h>
+
+namespace icewatch::volume {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// A scattered cloud on a slightly jittered pixel lattice, as a camera would give it.
+cv::Mat latticeCloud(int n, double extentMm, const std::function<double(double, double)>& height) {
+    cv::Mat cloud(n, n, CV_64FC3);
+    cv::RNG rng(7);
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) {
+            const double u = -extentMm + 2 * extentMm * x / (n - 1) + rng.uniform(-0.1, 0.1);
+            const double v = -extentMm + 2 * extentMm * y / (n - 1) + rng.uniform(-0.1, 0.1);
+            cloud.at<cv::Vec3d>(y, x) = {u, v, height(u, v)};
+        }
+    return cloud;
+}
+
+TEST(HeightGrid, ParaboloidCapBothMethods) {
+    const double radius = 40, heightMm = 10;
+    auto cap = [&](double u, double v) { return std::max(0.0, heightMm * (1 - (u * u + v * v) / (radius * radius))); };
+    const cv::Mat cloud = latticeCloud(201, 50, cap);
+    const GridSpec grid = makeGrid(-49, 49, -49, 49, 0.5);
+    const cv::Mat values = interpolateLattice(cloud, grid);
+    const double exact = kPi * radius * radius * heightMm / 2;  // paraboloid cap: half its cylinder
+    EXPECT_NEAR(integrate(values, grid, Integration::Trapz), exact, 0.005 * exact);
+    EXPECT_NEAR(integrate(values, grid, Integration::Sum), exact, 0.005 * exact);
+}
+
+TEST(HeightGrid, BoxBothMethods) {
+    // Edges half-way between nodes: both rules then integrate the box exactly (41 × 31 mm × 30 mm).
+    auto box = [](double u, double v) { return (std::abs(u) < 20.5 && std::abs(v) < 15.5) ? 30.0 : 0.0; };
+    cv::Mat values(81, 101, CV_64F);
+    const GridSpec grid = makeGrid(-50, 50, -40, 40, 1.0);
+    for (int j = 0; j < grid.nv; ++j)
+        for (int i = 0; i < grid.nu; ++i) values.at<double>(j, i) = box(grid.u0 + i * grid.du, grid.v0 + j * grid.dv);
+    const double exact = 41.0 * 31.0 * 30.0;
+    EXPECT_NEAR(integrate(values, grid, Integration::Trapz), exact, 1e-9);
+    EXPECT_NEAR(integrate(values, grid, Integration::Sum), exact, 1e-9);
+}
+
+TEST(HeightGrid, GridSpacingFollowsThePaper) {
+    const GridSpec grid = makeGrid(0, 10, 0, 4, 3.0);
+    EXPECT_EQ(grid.nu, 5);
+    EXPECT_EQ(grid.nv, 3);
+    EXPECT_DOUBLE_EQ(grid.du, 10.0 / 4);
+    EXPECT_DOUBLE_EQ(grid.dv, 4.0 / 2);
+}
+
+TEST(HeightGrid, LinearInterpolationIsExactOnAPlaneAndLeavesHolesOpen) {
+    cv::Mat cloud = latticeCloud(41, 20, [](double u, double v) { return 2 + 0.3 * u - 0.2 * v; });
+    for (int y = 15; y < 25; ++y)
+        for (int x = 15; x < 25; ++x) cloud.at<cv::Vec3d>(y, x)[2] = std::nan("");
+    const GridSpec grid = makeGrid(-19, 19, -19, 19, 0.5);
+    cv::Mat values = interpolateLattice(cloud, grid);
+    int covered = 0;
+    for (int j = 0; j < grid.nv; ++j)
+        for (int i = 0; i < grid.nu; ++i) {
+            const double h = values.at<double>(j, i);
+            if (std::isnan(h)) continue;
+            ++covered;
+            EXPECT_NEAR(h, 2 + 0.3 * (grid.u0 + i * grid.du) - 0.2 * (grid.v0 + j * grid.dv), 1e-9);
+        }
+    EXPECT_TRUE(std::isnan(values.at<double>(grid.nv / 2, grid.nu / 2)));  // the hole stays a hole
+    const cv::Mat inside(values.size(), CV_8U, cv::Scalar(255));
+    EXPECT_GT(fillFromNearest(values, inside), 0);
+    EXPECT_FALSE(std::isnan(values.at<double>(grid.nv / 2, grid.nu / 2)));
+    EXPECT_GT(covered, grid.nu * grid.nv / 2);
+}
+
+TEST(HeightGrid, PlaneFitNormalFacesTheCamera) {
+    std::vector<cv::Vec3d> points;
+    for (int i = 0; i < 100; ++i) points.emplace_back(i % 10, i / 10, 800 + 0.1 * (i % 10));
+    const PlaneFrame frame = fitPlane(points);
+    EXPECT_LT(frame.normal[2], -0.99);
+    EXPECT_NEAR(frame.toPlane(points[55]).z, 0.0, 1e-9);
+}
+
+}  // namespace
+}  // namespace icewatch::volume

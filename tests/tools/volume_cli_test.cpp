@@ -1,0 +1,77 @@
+// icewatch synth and icewatch volume as a supervisor runs them: exit statuses and messages.
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "core/common/exit_codes.hpp"
+#include "tests/support/run_program.hpp"
+#include "tests/support/test_paths.hpp"
+
+namespace icewatch {
+namespace {
+
+std::string icewatchBin() { return (test::binDir() / "icewatch").string(); }
+
+std::filesystem::path smallScene(const std::filesystem::path& base = test::freshTempDir()) {
+    const auto dir = base / "scene";
+    const auto r = test::runProgram({icewatchBin(), "synth", "--scene", "block", "--ice-volume-mm3", "417391",
+                                     "--mode", "640x240", "--supersampling", "1", "--out", dir.string()});
+    EXPECT_EQ(r.status, 0) << r.err;
+    return dir;
+}
+
+test::ProgramResult runVolume(const std::filesystem::path& dir) {
+    return test::runProgram({icewatchBin(), "volume", "--scene", dir.string(), "--stereo-method", "sgbm", "--json"});
+}
+
+TEST(VolumeCli, SynthWritesACompleteSceneDirectory) {
+    const auto dir = smallScene();
+    for (const char* name : {"calibration.yaml", "before.png", "after.png", "roi.json", "truth.json"}) {
+        EXPECT_TRUE(std::filesystem::exists(dir / name)) << name;
+    }
+    std::ifstream truth(dir / "truth.json");
+    EXPECT_DOUBLE_EQ(nlohmann::json::parse(truth)["ice_volume_mm3"].get<double>(), 417391.0);
+}
+
+TEST(VolumeCli, MissingFileIsNamed) {
+    const auto dir = smallScene();
+    std::filesystem::remove(dir / "after.png");
+    const auto r = runVolume(dir);
+    EXPECT_EQ(r.status, kExitNoInput);
+    EXPECT_NE(r.err.find("after.png"), std::string::npos) << r.err;
+}
+
+TEST(VolumeCli, FrameOfWrongSizeIsNamed) {
+    const auto dir = smallScene();
+    cv::imwrite((dir / "before.png").string(), cv::Mat(100, 200, CV_8UC3, cv::Scalar::all(90)));
+    const auto r = runVolume(dir);
+    EXPECT_EQ(r.status, kExitDataErr);
+    EXPECT_NE(r.err.find("before.png"), std::string::npos) << r.err;
+}
+
+TEST(VolumeCli, CalibrationOfAnotherModeIsRefused) {
+    const auto base = test::freshTempDir();
+    const auto dir = smallScene(base);
+    const auto other = base / "other";
+    ASSERT_EQ(test::runProgram({icewatchBin(), "synth", "--scene", "block", "--ice-volume-mm3", "1000", "--mode",
+                                "1280x480", "--supersampling", "1", "--out", other.string()})
+                  .status,
+              0);
+    std::filesystem::copy_file(other / "calibration.yaml", dir / "calibration.yaml",
+                               std::filesystem::copy_options::overwrite_existing);
+    const auto r = runVolume(dir);
+    EXPECT_EQ(r.status, kExitDataErr);
+    EXPECT_NE(r.err.find("calibration.yaml"), std::string::npos) << r.err;
+}
+
+TEST(VolumeCli, MissingDirectoryAndBadArguments) {
+    EXPECT_EQ(runVolume("/nonexistent/scene").status, kExitNoInput);
+    const auto r = test::runProgram({icewatchBin(), "synth", "--scene", "cone", "--ice-volume-mm3", "1", "--out", "/tmp/x"});
+    EXPECT_EQ(r.status, kExitUsage);
+}
+
+}  // namespace
+}  // namespace icewatch
