@@ -106,6 +106,8 @@ TEST(Daemon, GpioFollowsAnIceSeriesWithHysteresis) {
     Rig rig({}, icewatch::test::freshTempDir(), [&](ScriptedChain& c) {
         c.script = [&](int call, const StereoPair&) { return volumeEachCall(call, series, 3); };
     });
+    auto closed = std::make_shared<bool>(false);
+    rig.source->closedOutside = closed;
     rig.daemon->runUntil(rig.at(600 * static_cast<int>(series.size() - 1) + 1));
     const auto rows = rig.daemon->history(testEpoch(), 1000);
     ASSERT_EQ(rows.size(), series.size());
@@ -120,7 +122,7 @@ TEST(Daemon, GpioFollowsAnIceSeriesWithHysteresis) {
         {"healthy", false}, {"alarm", false},  // shutdown
     };
     EXPECT_EQ(rig.transitions(), expected);
-    EXPECT_TRUE(rig.source->closed);
+    EXPECT_TRUE(*closed) << "the camera is released on shutdown";
 }
 
 TEST(Daemon, CameraUnpluggedMidCycleThenPluggedBack) {

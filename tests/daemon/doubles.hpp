@@ -3,6 +3,7 @@
 // Test doubles of the daemon's two seams and a configuration for simulated days.
 #include <deque>
 #include <functional>
+#include <memory>
 #include <string>
 
 #include <opencv2/core.hpp>
@@ -23,13 +24,17 @@ public:
     bool open(std::string& error) override;
     std::optional<StereoPair> grabFreshest(std::string& error) override;
     CameraState health(std::string& detail) override;
-    void close() override { closed = true; }
+    void close() override {
+        closed = true;
+        if (closedOutside) *closedOutside = true;
+    }
 
     bool plugged = true;
     int unplugAtGrab = 0;                     // 1-based grab number at which the cable is pulled
     std::function<StereoPair(int grab)> frame;  // default: texturedPair()
     int grabs = 0;
     bool closed = false;
+    std::shared_ptr<bool> closedOutside;  // still readable after the daemon destroyed the source
 };
 
 // A volume chain whose answers are scripted per call (call numbers start at 1).

@@ -12,7 +12,6 @@
 
 #include <fstream>
 #include <cstring>
-#include <regex>
 #include <thread>
 
 #include <httplib.h>
@@ -118,8 +117,9 @@ private:
 };
 
 int portFrom(const std::string& ready) {
-    std::smatch m;
-    return std::regex_search(ready, m, std::regex(R"(http 127\.0\.0\.1:(\d+))")) ? std::stoi(m[1]) : 0;
+    const std::string marker = "http 127.0.0.1:";
+    const auto at = ready.find(marker);
+    return at == std::string::npos ? 0 : std::atoi(ready.c_str() + at + marker.size());
 }
 
 TEST(Icewatchd, ReadySighupWithABadConfigKeepsTheOldOneSigtermExitsClean) {
