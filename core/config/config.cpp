@@ -131,6 +131,85 @@ void readStereo(Section s, stereo::Parameters& p) {
     s.finish();
 }
 
+void readHealth(Section s, ImageHealthConfig& health) {
+    s.read("min_mean_level", health.minMeanLevel, 0.0, 255.0);
+    s.read("max_saturated_percent", health.maxSaturatedPercent, 0.0, 100.0);
+    s.read("min_sharpness", health.minSharpness, 0.0, 1e6);
+    s.read("min_contrast", health.minContrast, 0.0, 255.0);
+    s.finish();
+}
+
+void readDaemon(Section s, DaemonConfig& daemon) {
+    s.read("interval_s", daemon.intervalS, 10, 86400);
+    s.read("burst_frames", daemon.burstFrames, 1, 50);
+    s.read("min_frames", daemon.minFrames, 1, 50);
+    if (daemon.minFrames > daemon.burstFrames) {
+        s.fail("min_frames", "must not exceed burst_frames");
+    }
+    s.read("camera_check_s", daemon.cameraCheckS, 1, 3600);
+    s.read("state_dir", daemon.stateDir);
+    if (daemon.stateDir.empty()) {
+        s.fail("state_dir", "must not be empty");
+    }
+    readHealth(s.child("health"), daemon.health);
+    s.finish();
+}
+
+void readAlarm(Section s, AlarmConfig& alarm) {
+    s.readChoice("metric", alarm.metric, {"volume_mm3", "mean_thickness_mm"});
+    s.read("warning_set", alarm.warningSet, 0.0, 1e12);
+    s.read("warning_clear", alarm.warningClear, 0.0, 1e12);
+    s.read("alarm_set", alarm.alarmSet, 0.0, 1e12);
+    s.read("alarm_clear", alarm.alarmClear, 0.0, 1e12);
+    if (alarm.warningClear >= alarm.warningSet) {
+        s.fail("warning_clear", "must be below warning_set (hysteresis)");
+    }
+    if (alarm.alarmClear >= alarm.alarmSet) {
+        s.fail("alarm_clear", "must be below alarm_set (hysteresis)");
+    }
+    if (alarm.alarmSet < alarm.warningSet) {
+        s.fail("alarm_set", "must not be below warning_set");
+    }
+    s.read("warning_hold_s", alarm.warningHoldS, 0, 7 * 86400);
+    s.read("alarm_hold_s", alarm.alarmHoldS, 0, 7 * 86400);
+    s.read("latch", alarm.latch);
+    s.finish();
+}
+
+void readGpio(Section s, GpioConfig& gpio) {
+    s.read("chip", gpio.chip);
+    if (gpio.chip.empty() || gpio.chip == "fake:") {
+        s.fail("chip", "must name a chip, \"none\", \"fake\" or fake:FILE");
+    }
+    s.read("alarm_line", gpio.alarmLine, 0, 65535);
+    s.read("healthy_line", gpio.healthyLine, 0, 65535);
+    if (gpio.alarmLine == gpio.healthyLine) {
+        s.fail("healthy_line", "must differ from alarm_line");
+    }
+    s.read("active_low", gpio.activeLow);
+    s.read("consumer", gpio.consumer);
+    if (gpio.consumer.empty() || gpio.consumer.size() > 31) {
+        s.fail("consumer", "must be 1 to 31 characters (the kernel's label size)");
+    }
+    s.finish();
+}
+
+void readHttp(Section s, HttpConfig& http) {
+    s.read("enabled", http.enabled);
+    s.read("address", http.address);
+    if (http.address.empty()) {
+        s.fail("address", "must not be empty");
+    }
+    s.read("port", http.port, 0, 65535);
+    s.read("token", http.token);
+    s.finish();
+}
+
+void readHistory(Section s, HistoryConfig& history) {
+    s.read("retention_days", history.retentionDays, 1, 36500);
+    s.finish();
+}
+
 }  // namespace
 
 Config parseConfig(std::string_view text, const std::string& fileName) {
@@ -151,6 +230,11 @@ Config parseConfig(std::string_view text, const std::string& fileName) {
     readCalibration(top.child("calibration"), config.calibration);
     readVolume(top.child("volume"), config.volume);
     readStereo(top.child("stereo"), config.stereo);
+    readDaemon(top.child("daemon"), config.daemon);
+    readAlarm(top.child("alarm"), config.alarm);
+    readGpio(top.child("gpio"), config.gpio);
+    readHttp(top.child("http"), config.http);
+    readHistory(top.child("history"), config.history);
     top.finish();
     return config;
 }

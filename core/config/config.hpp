@@ -41,6 +41,56 @@ struct CalibrationConfig {
     std::string file = "/etc/icewatch/calibration.yaml";
 };
 
+// The image-health check every burst frame passes before it is measured (daemon section).
+struct ImageHealthConfig {
+    double minMeanLevel = 25.0;          // mean grey level (0-255) below this: dark
+    double maxSaturatedPercent = 20.0;   // share of pixels at 250 or more above this: saturated
+    double minSharpness = 20.0;          // variance of the Laplacian at 1/4 scale below this: blurred
+    double minContrast = 6.0;            // standard deviation of grey below this: fog, droplets
+};
+
+struct DaemonConfig {
+    int intervalS = 600;                 // measurement cadence
+    int burstFrames = 5;                 // frames grabbed per cycle (freshest frame each)
+    int minFrames = 3;                   // measured frames needed for a result
+    int cameraCheckS = 5;                // camera health is looked at this often between cycles
+    std::string stateDir = "/var/lib/icewatch";
+    ImageHealthConfig health;
+};
+
+// Levels none / warning / alarm on one metric, each with set and clear thresholds (hysteresis).
+struct AlarmConfig {
+    std::string metric = "volume_mm3";   // volume_mm3 or mean_thickness_mm
+    double warningSet = 50000.0;         // in the metric's unit
+    double warningClear = 30000.0;
+    double alarmSet = 200000.0;
+    double alarmClear = 150000.0;
+    int warningHoldS = 1800;             // a level is kept at least this long before it is lowered
+    int alarmHoldS = 3600;
+    bool latch = false;                  // alarm stays until reset (SIGUSR2, POST /v1/alarm/reset)
+};
+
+struct GpioConfig {
+    // gpiochip name or /dev path; "none" drives no outputs; "fake" records in memory; fake:FILE
+    // appends every transition to FILE (tests, desk PCs).
+    std::string chip = "gpiochip0";
+    int alarmLine = 17;                  // energised = no ice alarm
+    int healthyLine = 27;                // energised = system healthy
+    bool activeLow = false;
+    std::string consumer = "icewatchd";
+};
+
+struct HttpConfig {
+    bool enabled = true;
+    std::string address = "127.0.0.1";
+    int port = 8088;                     // 0: any free port (tests)
+    std::string token;                   // non-empty: POSTs need "Authorization: Bearer TOKEN"
+};
+
+struct HistoryConfig {
+    int retentionDays = 365;
+};
+
 struct Config {
     std::string sourceFile;  // where it was loaded from, for messages
     LogConfig log;
@@ -48,6 +98,11 @@ struct Config {
     CalibrationConfig calibration;
     volume::Parameters volume;  // the "volume" section: every tunable of the volume chain
     stereo::Parameters stereo;  // the matcher's parameters (core/stereo/parameters.hpp documents them)
+    DaemonConfig daemon;
+    AlarmConfig alarm;
+    GpioConfig gpio;
+    HttpConfig http;
+    HistoryConfig history;
 };
 
 // Parses and validates a whole configuration; fileName is only used in messages. JSON with //

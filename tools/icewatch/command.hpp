@@ -34,5 +34,8 @@ void addVolumeCommand(CLI::App& app, const GlobalOptions& global, RunFunction& r
 void addMatchCommand(CLI::App& app, const GlobalOptions& global, RunFunction& run);
 void addEvalCommand(CLI::App& app, const GlobalOptions& global, RunFunction& run);
 void addBenchCommand(CLI::App& app, const GlobalOptions& global, RunFunction& run);
+void addHistoryCommand(CLI::App& app, const GlobalOptions& global, RunFunction& run);
+void addStatusCommand(CLI::App& app, const GlobalOptions& global, RunFunction& run);
+void addBaselineCommand(CLI::App& app, const GlobalOptions& global, RunFunction& run);
 
 }  // namespace icewatch::cli

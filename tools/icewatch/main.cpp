@@ -30,6 +30,9 @@ int main(int argc, char** argv) {
     cli::addMatchCommand(app, global, run);
     cli::addEvalCommand(app, global, run);
     cli::addBenchCommand(app, global, run);
+    cli::addHistoryCommand(app, global, run);
+    cli::addStatusCommand(app, global, run);
+    cli::addBaselineCommand(app, global, run);
 
     try {
         app.parse(argc, argv);

@@ -75,6 +75,33 @@ TEST(Config, ShippedFileDocumentsTheDefaults) {
     EXPECT_EQ(a.sgbmBlockSize, b.sgbmBlockSize);
     EXPECT_EQ(a.sgbmFillHoles, b.sgbmFillHoles);
     EXPECT_EQ(shipped.calibration.file, defaults.calibration.file);
+    EXPECT_EQ(shipped.daemon.intervalS, defaults.daemon.intervalS);
+    EXPECT_EQ(shipped.daemon.burstFrames, defaults.daemon.burstFrames);
+    EXPECT_EQ(shipped.daemon.minFrames, defaults.daemon.minFrames);
+    EXPECT_EQ(shipped.daemon.cameraCheckS, defaults.daemon.cameraCheckS);
+    EXPECT_EQ(shipped.daemon.stateDir, defaults.daemon.stateDir);
+    EXPECT_EQ(shipped.daemon.health.minMeanLevel, defaults.daemon.health.minMeanLevel);
+    EXPECT_EQ(shipped.daemon.health.maxSaturatedPercent, defaults.daemon.health.maxSaturatedPercent);
+    EXPECT_EQ(shipped.daemon.health.minSharpness, defaults.daemon.health.minSharpness);
+    EXPECT_EQ(shipped.daemon.health.minContrast, defaults.daemon.health.minContrast);
+    EXPECT_EQ(shipped.alarm.metric, defaults.alarm.metric);
+    EXPECT_EQ(shipped.alarm.warningSet, defaults.alarm.warningSet);
+    EXPECT_EQ(shipped.alarm.warningClear, defaults.alarm.warningClear);
+    EXPECT_EQ(shipped.alarm.alarmSet, defaults.alarm.alarmSet);
+    EXPECT_EQ(shipped.alarm.alarmClear, defaults.alarm.alarmClear);
+    EXPECT_EQ(shipped.alarm.warningHoldS, defaults.alarm.warningHoldS);
+    EXPECT_EQ(shipped.alarm.alarmHoldS, defaults.alarm.alarmHoldS);
+    EXPECT_EQ(shipped.alarm.latch, defaults.alarm.latch);
+    EXPECT_EQ(shipped.gpio.chip, defaults.gpio.chip);
+    EXPECT_EQ(shipped.gpio.alarmLine, defaults.gpio.alarmLine);
+    EXPECT_EQ(shipped.gpio.healthyLine, defaults.gpio.healthyLine);
+    EXPECT_EQ(shipped.gpio.activeLow, defaults.gpio.activeLow);
+    EXPECT_EQ(shipped.gpio.consumer, defaults.gpio.consumer);
+    EXPECT_EQ(shipped.http.enabled, defaults.http.enabled);
+    EXPECT_EQ(shipped.http.address, defaults.http.address);
+    EXPECT_EQ(shipped.http.port, defaults.http.port);
+    EXPECT_EQ(shipped.http.token, defaults.http.token);
+    EXPECT_EQ(shipped.history.retentionDays, defaults.history.retentionDays);
     const volume::Parameters &v = shipped.volume, &d = defaults.volume;
     EXPECT_EQ(v.stereoMethod, d.stereoMethod);
     EXPECT_EQ(v.maxDisparity, d.maxDisparity);
@@ -136,6 +163,27 @@ TEST(Config, StereoSectionIsReadAndChecked) {
     EXPECT_EQ(errorOf(R"({"stereo": {"cross_tau2": 30}})"), "test.json: stereo.cross_tau2: must not exceed cross_tau1");
     EXPECT_EQ(errorOf(R"({"stereo": {"sgbm_block_size": 4}})"), "test.json: stereo.sgbm_block_size: must be odd");
     EXPECT_EQ(errorOf(R"({"stereo": {"alpha": 2}})"), "test.json: stereo.alpha: unknown key");
+}
+
+TEST(Config, DaemonSectionsAreValidated) {
+    EXPECT_EQ(errorOf(R"({"alarm": {"warning_set": 10, "warning_clear": 10}})"),
+              "test.json: alarm.warning_clear: must be below warning_set (hysteresis)");
+    EXPECT_EQ(errorOf(R"({"alarm": {"metric": "mass"}})"),
+              "test.json: alarm.metric: must be one of mean_thickness_mm, volume_mm3, got \"mass\"");
+    EXPECT_EQ(errorOf(R"({"daemon": {"burst_frames": 2, "min_frames": 3}})"),
+              "test.json: daemon.min_frames: must not exceed burst_frames");
+    EXPECT_EQ(errorOf(R"({"daemon": {"health": {"min_contrast": -1}}})"),
+              "test.json: daemon.health.min_contrast: must be between 0.0 and 255.0, got -1");
+    EXPECT_EQ(errorOf(R"({"gpio": {"alarm_line": 3, "healthy_line": 3}})"),
+              "test.json: gpio.healthy_line: must differ from alarm_line");
+    EXPECT_EQ(errorOf(R"({"http": {"port": 70000}})"),
+              "test.json: http.port: must be between 0 and 65535, got 70000");
+    const Config c = parseConfig(R"({"alarm": {"metric": "mean_thickness_mm", "warning_set": 2, "warning_clear": 1,
+        "alarm_set": 5, "alarm_clear": 4, "latch": true}, "http": {"token": "s3cret"}})", "test.json");
+    EXPECT_EQ(c.alarm.metric, "mean_thickness_mm");
+    EXPECT_EQ(c.alarm.alarmSet, 5.0);
+    EXPECT_TRUE(c.alarm.latch);
+    EXPECT_EQ(c.http.token, "s3cret");
 }
 
 TEST(Config, ReadsValuesAndComments) {

@@ -1,0 +1,60 @@
+#pragma once
+
+#include <chrono>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "core/alarm/alarm_state.hpp"
+#include "daemon/frame_source.hpp"
+
+namespace icewatch::daemon {
+
+// Version of the latest.json / history document layout; bump when a field changes meaning.
+constexpr int kResultSchema = 1;
+
+enum class CycleStatus {
+    Ok,          // a volume
+    Refused,     // the quality gate or the image-health check refused the burst (fog, night, ...)
+    NoBaseline,  // no clean-blade reference for this calibration yet
+    Fault,       // camera offline or the measurement failed
+};
+
+const char* toString(CycleStatus status);
+
+struct QualityFlag {
+    std::string flag;    // dark, saturated, blurred, low_contrast, refused, failed
+    std::string reason;  // with the frame and the figures
+};
+
+// One published result: latest.json, a history row, GET /v1/latest.
+struct CycleResult {
+    std::chrono::system_clock::time_point time;
+    CycleStatus status = CycleStatus::Fault;
+    std::string reason;
+    std::optional<double> volumeMm3;
+    std::optional<double> uncertaintyMm3;
+    std::optional<double> meanThicknessMm;
+    std::optional<double> maxThicknessMm;
+    std::optional<double> validPercent;
+    alarm::AlarmLevel alarm = alarm::AlarmLevel::Fault;
+    CameraState camera = CameraState::Offline;
+    int framesGrabbed = 0;
+    int framesHealthy = 0;
+    int framesMeasured = 0;
+    std::vector<QualityFlag> quality;
+    std::map<std::string, double> timingsMs;
+    std::string version;
+    std::string configSha256;
+};
+
+// The document, without "stale" (that depends on when it is read).
+nlohmann::json toJson(const CycleResult& result);
+
+// Adds "stale": true once the result is older than two measurement intervals at `now`.
+nlohmann::json withStaleness(nlohmann::json document, std::chrono::system_clock::time_point now, int intervalS);
+
+}  // namespace icewatch::daemon

@@ -1,0 +1,484 @@
+// icewatchd's service loop. One thread does all the work (camera, chain, files, GPIO) so nothing
+// in the measurement path needs a lock; other threads only post requests and read published
+// snapshots. The loop wakes for the next cycle, the next camera check, the watchdog and requests.
+//
+// Fault handling: a camera that vanishes between cycles is a fault at once (not at the next
+// cycle) and latest.json says so; when it returns a cycle runs straight away, so the fault clears
+// with a real measurement rather than by assumption.
+#include "daemon/daemon.hpp"
+
+#include <algorithm>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "core/common/error.hpp"
+#include "daemon/atomic_file.hpp"
+#include "daemon/baseline_store.hpp"
+#include "daemon/iso_time.hpp"
+#include "daemon/measurement_cycle.hpp"
+#include "daemon/sha256.hpp"
+#include "drivers/log/log.hpp"
+
+namespace icewatch::daemon {
+
+namespace {
+
+std::shared_ptr<spdlog::logger> logger() {
+    return log::get("daemon");
+}
+
+std::filesystem::path prepared(const std::filesystem::path& dir) {
+    prepareStateDir(dir);
+    return dir;
+}
+
+const std::vector<std::string> kPictureNames{"left", "disparity", "thickness"};
+
+// The settings only a restart applies: they hold devices, sockets and files open.
+std::vector<std::string> restartOnlyChanges(const config::Config& a, const config::Config& b) {
+    std::vector<std::string> changed;
+    if (a.camera.device != b.camera.device || a.camera.width != b.camera.width || a.camera.height != b.camera.height ||
+        a.camera.format != b.camera.format || a.camera.fps != b.camera.fps || a.camera.buffers != b.camera.buffers ||
+        a.camera.controls != b.camera.controls || a.camera.frameTimeoutMs != b.camera.frameTimeoutMs ||
+        a.camera.reconnectMinMs != b.camera.reconnectMinMs || a.camera.reconnectMaxMs != b.camera.reconnectMaxMs) {
+        changed.push_back("camera");
+    }
+    if (a.gpio.chip != b.gpio.chip || a.gpio.alarmLine != b.gpio.alarmLine || a.gpio.healthyLine != b.gpio.healthyLine ||
+        a.gpio.activeLow != b.gpio.activeLow || a.gpio.consumer != b.gpio.consumer) {
+        changed.push_back("gpio");
+    }
+    if (a.http.enabled != b.http.enabled || a.http.address != b.http.address || a.http.port != b.http.port) {
+        changed.push_back("http.enabled/address/port");
+    }
+    if (a.daemon.stateDir != b.daemon.stateDir || a.calibration.file != b.calibration.file) {
+        changed.push_back("daemon.state_dir/calibration.file");
+    }
+    return changed;
+}
+
+}  // namespace
+
+Daemon::Daemon(config::Config config, DaemonOptions options, Clock& clock, DaemonParts parts, Notifier* notifier)
+    : config_(std::move(config)),
+      options_(std::move(options)),
+      clock_(clock),
+      parts_(std::move(parts)),
+      notifier_(notifier),
+      stateDir_(prepared(config_.daemon.stateDir)),
+      lock_(stateDir_),
+      history_(stateDir_ / "history.sqlite"),
+      alarm_(config_.alarm) {
+    if (!parts_.source || !parts_.chain) {
+        throw Error(kExitSoftware, "daemon: a frame source and a measurement chain are required");
+    }
+    // The last result survives a restart for GET /v1/latest (it is stale by then, and says so).
+    if (std::ifstream in(stateDir_ / "latest.json"); in) {
+        auto doc = nlohmann::json::parse(in, nullptr, false);
+        if (doc.is_object()) {
+            latest_ = std::move(doc);
+        }
+    }
+    loadStoredBaseline();
+    if (parts_.outputs) {
+        parts_.outputs->show(alarm_.level());
+    }
+}
+
+Daemon::~Daemon() {
+    parts_.source->close();
+    if (parts_.outputs) {
+        parts_.outputs->failSafe();
+    }
+}
+
+void Daemon::loadStoredBaseline() {
+    std::string why;
+    std::optional<BaselineRecord> record = loadBaseline(stateDir_, why);
+    if (!record) {
+        logger()->warn("no baseline yet ({}): results will be no_baseline until one is captured", why);
+        return;
+    }
+    const std::string calibration = parts_.chain->calibrationSha256();
+    if (record->calibrationSha256 != calibration) {
+        logger()->error("the stored baseline was taken with calibration {} but the camera is now calibrated as {}: "
+                        "capture a new baseline",
+                        record->calibrationSha256, calibration);
+        return;
+    }
+    const ChainResult accepted = parts_.chain->setBaseline(record->pair);
+    if (accepted.status != ChainResult::Status::Ok) {
+        logger()->error("the stored baseline was refused by the volume chain: {}", accepted.reason);
+        return;
+    }
+    std::lock_guard lock(mutex_);
+    baselineInfo_ = {{"time", formatIsoUtc(record->time)}, {"calibration_sha256", record->calibrationSha256}};
+    logger()->info("baseline of {} loaded", formatIsoUtc(record->time));
+}
+
+void Daemon::requestStop() {
+    stop_ = true;
+    std::lock_guard lock(mutex_);
+    wake_.notify_all();
+}
+
+void Daemon::requestMeasure() {
+    std::lock_guard lock(mutex_);
+    requests_.measure = true;
+    wake_.notify_all();
+}
+
+void Daemon::requestBaseline() {
+    std::lock_guard lock(mutex_);
+    requests_.baseline = true;
+    wake_.notify_all();
+}
+
+void Daemon::requestAlarmReset() {
+    std::lock_guard lock(mutex_);
+    requests_.alarmReset = true;
+    wake_.notify_all();
+}
+
+void Daemon::requestReload() {
+    std::lock_guard lock(mutex_);
+    requests_.reload = true;
+    wake_.notify_all();
+}
+
+void Daemon::setReadyStatus(std::string status) {
+    std::lock_guard lock(mutex_);
+    readyStatus_ = std::move(status);
+}
+
+Daemon::Requests Daemon::takeRequests() {
+    std::lock_guard lock(mutex_);
+    return std::exchange(requests_, Requests{});
+}
+
+void Daemon::waitUntil(TimePoint deadline) {
+    std::unique_lock lock(mutex_);
+    const bool pending = requests_.measure || requests_.baseline || requests_.alarmReset || requests_.reload;
+    if (pending || stopping()) {
+        return;
+    }
+    clock_.waitUntil(lock, wake_, deadline);
+}
+
+void Daemon::progress() {
+    if (notifier_ && notifier_->watchdogInterval()) {
+        notifier_->notify("WATCHDOG=1");
+    }
+}
+
+void Daemon::run() {
+    loop(std::nullopt);
+}
+
+void Daemon::runUntil(TimePoint end) {
+    loop(end);
+}
+
+void Daemon::loop(std::optional<TimePoint> end) {
+    if (notifier_) {
+        std::lock_guard lock(mutex_);
+        notifier_->notify("READY=1" + (readyStatus_.empty() ? std::string() : "\nSTATUS=" + readyStatus_));
+    }
+    if (!scheduled_) {
+        // The first cycle runs at once; the schedule then persists across run/runUntil calls.
+        const TimePoint start = clock_.now();
+        std::lock_guard lock(mutex_);
+        nextCycle_ = start;
+        nextCheck_ = start + std::chrono::seconds(config_.daemon.cameraCheckS);
+        scheduled_ = true;
+    }
+    TimePoint& nextCheck = nextCheck_;
+    while (!stopping()) {
+        const Requests requests = takeRequests();
+        if (requests.reload) reload();
+        if (requests.alarmReset) resetAlarm();
+        if (requests.baseline) captureBaseline();
+        const TimePoint now = clock_.now();
+        if (end && now >= *end) {
+            break;
+        }
+        TimePoint nextCycle;
+        {
+            std::lock_guard lock(mutex_);
+            nextCycle = nextCycle_;
+        }
+        if (requests.measure || now >= nextCycle) {
+            runCycle();
+            if (now >= nextCycle) {
+                // A fixed cadence; after a long stall (suspend, clock step) start afresh from now.
+                const auto interval = std::chrono::seconds(config_.daemon.intervalS);
+                nextCycle = nextCycle + interval > now ? nextCycle + interval : now + interval;
+                std::lock_guard lock(mutex_);
+                nextCycle_ = nextCycle;
+            }
+        }
+        if (clock_.now() >= nextCheck) {
+            checkCamera();
+            nextCheck = clock_.now() + std::chrono::seconds(config_.daemon.cameraCheckS);
+        }
+        progress();
+        TimePoint deadline = std::min(nextCycle, nextCheck);
+        if (end) deadline = std::min(deadline, *end);
+        if (notifier_ && notifier_->watchdogInterval()) {
+            deadline = std::min(deadline, clock_.now() + std::chrono::duration_cast<TimePoint::duration>(
+                                                               *notifier_->watchdogInterval() / 2));
+        }
+        waitUntil(deadline);
+    }
+    if (notifier_) {
+        notifier_->notify("STOPPING=1");
+    }
+}
+
+std::optional<CycleResult> Daemon::runOnce() {
+    return runCycle();
+}
+
+std::optional<CycleResult> Daemon::runCycle() {
+    std::optional<CycleOutcome> outcome = runMeasurementCycle(
+        *parts_.source, *parts_.chain, config_.daemon, clock_.now(), [this] { return stopping(); },
+        [this] { progress(); });
+    if (!outcome) {
+        logger()->info("measurement cycle abandoned: stopping");
+        return std::nullopt;
+    }
+    CycleResult& r = outcome->result;
+    switch (r.status) {
+        case CycleStatus::Ok: alarm_.measured(*r.volumeMm3, *r.meanThicknessMm, r.time); break;
+        case CycleStatus::Refused: break;  // the gate said no: the alarm keeps its level
+        case CycleStatus::NoBaseline: alarm_.fault("no baseline"); break;
+        case CycleStatus::Fault: alarm_.fault(r.reason); break;
+    }
+    {
+        std::lock_guard lock(mutex_);
+        camera_ = r.camera;
+        cameraDetail_ = r.status == CycleStatus::Fault ? r.reason : "";
+    }
+    if (r.status == CycleStatus::Ok) {
+        logger()->info("volume {:.0f} ± {:.0f} mm³, alarm {}", *r.volumeMm3, *r.uncertaintyMm3,
+                       alarm::toString(alarm_.level()));
+    } else {
+        logger()->warn("{}: {}", toString(r.status), r.reason);
+    }
+    return publish(std::move(r), outcome->pictures, true);
+}
+
+void Daemon::checkCamera() {
+    std::string detail;
+    const CameraState state = parts_.source->health(detail);
+    CameraState previous;
+    {
+        std::lock_guard lock(mutex_);
+        previous = camera_;
+        camera_ = state;
+        cameraDetail_ = detail;
+    }
+    if (state == CameraState::Offline && previous != CameraState::Offline) {
+        logger()->error("camera offline: {}", detail);
+        alarm_.fault("camera offline: " + detail);
+        CycleResult r;
+        r.time = clock_.now();
+        r.status = CycleStatus::Fault;
+        r.reason = "camera offline: " + detail;
+        r.camera = state;
+        publish(std::move(r), {}, false);
+    } else if (state != CameraState::Offline && previous == CameraState::Offline) {
+        logger()->info("camera back: measuring now");
+        std::lock_guard lock(mutex_);
+        requests_.measure = true;
+    }
+}
+
+void Daemon::captureBaseline() {
+    BaselineCapture capture = captureBaselinePair(*parts_.source, *parts_.chain, config_.daemon,
+                                                  [this] { return stopping(); }, [this] { progress(); });
+    const TimePoint time = clock_.now();
+    nlohmann::json outcome = {{"time", formatIsoUtc(time)}, {"ok", capture.ok}};
+    if (capture.ok) {
+        BaselineRecord record{time, parts_.chain->calibrationSha256(), std::move(capture.pair)};
+        std::string error;
+        if (saveBaseline(stateDir_, record, error)) {
+            logger()->info("baseline captured and stored");
+            std::lock_guard lock(mutex_);
+            baselineInfo_ = {{"time", formatIsoUtc(time)}, {"calibration_sha256", record.calibrationSha256}};
+            requests_.measure = true;  // the next result should be against the new reference
+        } else {
+            // The chain now holds a baseline that a restart would not find: say so loudly.
+            logger()->error("baseline in use but not stored: {}", error);
+            outcome["ok"] = false;
+            outcome["reason"] = error;
+        }
+    } else {
+        logger()->error("baseline capture failed: {}", capture.reason);
+        outcome["reason"] = capture.reason;
+    }
+    std::lock_guard lock(mutex_);
+    lastBaselineCapture_ = std::move(outcome);
+}
+
+void Daemon::resetAlarm() {
+    const alarm::AlarmLevel before = alarm_.level();
+    const alarm::AlarmLevel after = alarm_.reset(clock_.now());
+    logger()->info("alarm reset: {} -> {}", alarm::toString(before), alarm::toString(after));
+    if (parts_.outputs) {
+        parts_.outputs->show(after);
+    }
+    std::lock_guard lock(mutex_);
+    if (latest_) {
+        (*latest_)["alarm"] = alarm::toString(after);
+        if (!writeFileAtomically(stateDir_ / "latest.json", latest_->dump(2) + "\n")) {
+            logger()->error("cannot write {}", (stateDir_ / "latest.json").string());
+        }
+    }
+}
+
+void Daemon::reload() {
+    if (options_.configFile.empty()) {
+        logger()->warn("reload requested but the daemon was not started from a configuration file");
+        return;
+    }
+    config::Config next;
+    std::string sha;
+    try {
+        next = config::loadConfig(options_.configFile);
+        sha = sha256OfFile(options_.configFile).value_or("");
+    } catch (const Error& e) {
+        logger()->error("configuration reload failed, keeping the previous configuration: {}", e.what());
+        std::lock_guard lock(mutex_);
+        ++reloads_;
+        ++failedReloads_;
+        lastReloadError_ = e.what();
+        return;
+    }
+    for (const auto& section : restartOnlyChanges(config_, next)) {
+        logger()->warn("configuration reload: {} changed; that takes effect at the next restart", section);
+    }
+    alarm_.setConfig(next.alarm);
+    log::setLevel(next.log.level);
+    std::lock_guard lock(mutex_);
+    // Keep what only a restart may change; take the rest.
+    next.camera = config_.camera;
+    next.gpio = config_.gpio;
+    next.http.enabled = config_.http.enabled;
+    next.http.address = config_.http.address;
+    next.http.port = config_.http.port;
+    next.daemon.stateDir = config_.daemon.stateDir;
+    next.calibration = config_.calibration;
+    config_ = std::move(next);
+    options_.configSha256 = sha;
+    ++reloads_;
+    lastReloadError_.clear();
+    logger()->info("configuration reloaded from {}", options_.configFile.string());
+}
+
+CycleResult Daemon::publish(CycleResult result, const ChainPictures& pictures, bool toHistory) {
+    result.alarm = alarm_.level();
+    result.version = options_.version;
+    result.configSha256 = options_.configSha256;
+    const nlohmann::json doc = toJson(result);
+    if (!writeFileAtomically(stateDir_ / "latest.json", doc.dump(2) + "\n")) {
+        logger()->error("cannot write {}: {}", (stateDir_ / "latest.json").string(), std::strerror(errno));
+    }
+    if (toHistory) {
+        history_.append(result);
+        history_.pruneOlderThan(result.time - std::chrono::hours(24) * config_.history.retentionDays);
+    }
+    const cv::Mat* images[] = {&pictures.left, &pictures.disparity, &pictures.thickness};
+    for (std::size_t i = 0; i < kPictureNames.size(); ++i) {
+        std::vector<uchar> png;
+        if (images[i]->empty() || !cv::imencode(".png", *images[i], png)) continue;
+        const auto path = stateDir_ / "images" / (kPictureNames[i] + ".png");
+        if (!writeFileAtomically(path, std::string_view(reinterpret_cast<const char*>(png.data()), png.size()),
+                                 Durability::AtomicOnly)) {
+            logger()->error("cannot write {}", path.string());
+        }
+    }
+    if (parts_.outputs && !parts_.outputs->show(result.alarm)) {
+        logger()->error("the alarm outputs could not all be driven");
+    }
+    std::lock_guard lock(mutex_);
+    latest_ = doc;
+    return result;
+}
+
+std::optional<nlohmann::json> Daemon::latest() const {
+    std::lock_guard lock(mutex_);
+    if (!latest_) {
+        return std::nullopt;
+    }
+    return withStaleness(*latest_, clock_.now(), config_.daemon.intervalS);
+}
+
+alarm::AlarmLevel Daemon::alarmLevel() const {
+    std::lock_guard lock(mutex_);
+    if (!latest_) return alarm::AlarmLevel::Fault;
+    const std::string level = (*latest_)["alarm"].get<std::string>();
+    for (auto l : {alarm::AlarmLevel::None, alarm::AlarmLevel::Warning, alarm::AlarmLevel::Alarm}) {
+        if (level == alarm::toString(l)) return l;
+    }
+    return alarm::AlarmLevel::Fault;
+}
+
+nlohmann::json Daemon::health() const {
+    std::lock_guard lock(mutex_);
+    const std::string alarmText = latest_ ? (*latest_)["alarm"].get<std::string>() : "fault";
+    const bool stale = latest_ ? withStaleness(*latest_, clock_.now(), config_.daemon.intervalS)["stale"].get<bool>() : true;
+    std::string status = "ok";
+    if (alarmText == "fault" || camera_ == CameraState::Offline || stale) {
+        status = "fault";
+    } else if (camera_ == CameraState::Degraded || (latest_ && (*latest_)["status"] != "ok")) {
+        status = "degraded";
+    }
+    return {
+        {"status", status},
+        {"alarm", alarmText},
+        {"camera", toString(camera_)},
+        {"camera_detail", cameraDetail_.empty() ? nlohmann::json(nullptr) : nlohmann::json(cameraDetail_)},
+        {"last_result", latest_ ? (*latest_)["time"] : nlohmann::json(nullptr)},
+        {"last_status", latest_ ? (*latest_)["status"] : nlohmann::json(nullptr)},
+        {"stale", stale},
+        {"next_cycle", formatIsoUtc(nextCycle_)},
+        {"interval_s", config_.daemon.intervalS},
+        {"baseline", baselineInfo_},
+        {"last_baseline_capture", lastBaselineCapture_},
+        {"config_file", options_.configFile.string()},
+        {"config_sha256", options_.configSha256},
+        {"reloads",
+         {{"count", reloads_},
+          {"failed", failedReloads_},
+          {"last_error", lastReloadError_.empty() ? nlohmann::json(nullptr) : nlohmann::json(lastReloadError_)}}},
+        {"version", options_.version},
+        {"state_dir", stateDir_.string()},
+    };
+}
+
+std::vector<nlohmann::json> Daemon::history(TimePoint since, int limit) const {
+    return history_.since(since, limit);
+}
+
+std::optional<std::string> Daemon::picture(const std::string& name) const {
+    if (std::find(kPictureNames.begin(), kPictureNames.end(), name) == kPictureNames.end()) {
+        return std::nullopt;
+    }
+    std::ifstream in(stateDir_ / "images" / (name + ".png"), std::ios::binary);
+    if (!in) {
+        return std::nullopt;
+    }
+    std::ostringstream bytes;
+    bytes << in.rdbuf();
+    return bytes.str();
+}
+
+std::string Daemon::token() const {
+    std::lock_guard lock(mutex_);
+    return config_.http.token;
+}
+
+}  // namespace icewatch::daemon

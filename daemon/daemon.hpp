@@ -1,0 +1,126 @@
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <filesystem>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "core/alarm/alarm_state.hpp"
+#include "core/config/config.hpp"
+#include "daemon/clock.hpp"
+#include "daemon/cycle_result.hpp"
+#include "daemon/frame_source.hpp"
+#include "daemon/history.hpp"
+#include "daemon/measurement_chain.hpp"
+#include "daemon/notifier.hpp"
+#include "daemon/state_dir.hpp"
+#include "drivers/gpio/scada_outputs.hpp"
+
+namespace icewatch::daemon {
+
+struct DaemonOptions {
+    std::filesystem::path configFile;  // re-read on reload; empty: reload keeps the current config
+    std::string configSha256;          // of the loaded file's bytes
+    std::string version;
+};
+
+// The parts the daemon composes; the tests pass doubles. outputs may be null (--once: SCADA lines
+// belong to the running service).
+struct DaemonParts {
+    std::unique_ptr<FrameSource> source;
+    std::unique_ptr<MeasurementChain> chain;
+    std::unique_ptr<gpio::ScadaOutputs> outputs;
+};
+
+// icewatchd's service loop: measures every daemon.interval_s and on request, watches the camera
+// between cycles, publishes (latest.json, history, pictures, alarm outputs) and answers the HTTP
+// API's questions. All work happens on the thread calling run(); request*() and the views may be
+// called from any thread (signal thread, HTTP workers).
+class Daemon {
+public:
+    // Takes the state directory (config.daemon.state_dir) and its lock, opens the history and
+    // loads the stored baseline. Throws Error on an unusable state directory.
+    Daemon(config::Config config, DaemonOptions options, Clock& clock, DaemonParts parts, Notifier* notifier = nullptr);
+    // Releases the camera and leaves the outputs fail-safe.
+    ~Daemon();
+    Daemon(const Daemon&) = delete;
+    Daemon& operator=(const Daemon&) = delete;
+
+    // Runs until requestStop(). Sends READY=1 (with readyStatus) on entry.
+    void run();
+    // Runs until the clock reaches end (simulated time in tests) or requestStop().
+    void runUntil(TimePoint end);
+    // One cycle now, published like any other; nullopt when a stop request abandoned it.
+    std::optional<CycleResult> runOnce();
+
+    void requestStop();
+    void requestMeasure();
+    void requestBaseline();
+    void requestAlarmReset();
+    void requestReload();
+    void setReadyStatus(std::string status);
+
+    // Views for the HTTP API.
+    std::optional<nlohmann::json> latest() const;  // with "stale"; nullopt before the first result
+    nlohmann::json health() const;
+    std::vector<nlohmann::json> history(TimePoint since, int limit) const;
+    std::optional<std::string> picture(const std::string& name) const;  // PNG bytes
+    std::string token() const;
+    TimePoint now() const { return clock_.now(); }
+    alarm::AlarmLevel alarmLevel() const;
+    const std::filesystem::path& stateDir() const { return stateDir_; }
+
+private:
+    struct Requests {
+        bool measure = false, baseline = false, alarmReset = false, reload = false;
+    };
+    void loop(std::optional<TimePoint> end);
+    Requests takeRequests();
+    void waitUntil(TimePoint deadline);
+    std::optional<CycleResult> runCycle();
+    void checkCamera();
+    void captureBaseline();
+    void resetAlarm();
+    void reload();
+    void loadStoredBaseline();
+    // Applies the alarm level and writes everything out; returns the result as published.
+    CycleResult publish(CycleResult result, const ChainPictures& pictures, bool toHistory);
+    void progress();
+    bool stopping() const { return stop_.load(); }
+
+    config::Config config_;  // guarded by mutex_ for the views; written on the loop thread only
+    DaemonOptions options_;
+    Clock& clock_;
+    DaemonParts parts_;
+    Notifier* notifier_;
+    std::filesystem::path stateDir_;
+    StateDirLock lock_;
+    History history_;
+    alarm::AlarmStateMachine alarm_;
+
+    mutable std::mutex mutex_;
+    std::condition_variable wake_;
+    Requests requests_;
+    std::atomic<bool> stop_{false};
+    std::string readyStatus_;
+    std::optional<nlohmann::json> latest_;
+    CameraState camera_ = CameraState::Offline;
+    std::string cameraDetail_;
+    TimePoint nextCycle_{};
+    TimePoint nextCheck_{};     // loop thread only
+    bool scheduled_ = false;    // loop thread only
+    nlohmann::json baselineInfo_;      // null or {time, calibration_sha256}
+    nlohmann::json lastBaselineCapture_;
+    int reloads_ = 0;
+    int failedReloads_ = 0;
+    std::string lastReloadError_;
+    std::chrono::steady_clock::time_point lastWatchdog_{};
+};
+
+}  // namespace icewatch::daemon

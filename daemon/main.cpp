@@ -1,0 +1,147 @@
+// icewatchd: the unattended service. Parses the command line, loads the configuration, wires the
+// parts, handles signals on a dedicated thread (all signals are blocked everywhere else, so no
+// work ever runs in a signal handler) and runs the service loop.
+//   SIGTERM/SIGINT  finish or abandon the cycle, release camera and GPIO (fail-safe), exit 0
+//   SIGHUP          re-read the configuration; an invalid one is logged and the old one kept
+//   SIGUSR1         measure now
+//   SIGUSR2         reset a latched alarm
+#include <pthread.h>
+#include <signal.h>
+
+#include <atomic>
+#include <iostream>
+#include <thread>
+
+#include <CLI/CLI.hpp>
+
+#include "core/common/error.hpp"
+#include "core/config/config.hpp"
+#include "daemon/daemon.hpp"
+#include "daemon/http_api.hpp"
+#include "daemon/sha256.hpp"
+#include "daemon/wiring.hpp"
+#include "drivers/log/log.hpp"
+
+namespace {
+
+using namespace icewatch;
+
+sigset_t handledSignals() {
+    sigset_t set;
+    sigemptyset(&set);
+    for (int s : {SIGTERM, SIGINT, SIGHUP, SIGUSR1, SIGUSR2}) sigaddset(&set, s);
+    return set;
+}
+
+// Turns signals into requests until told to finish.
+class SignalThread {
+public:
+    explicit SignalThread(daemon::Daemon& d) : thread_([this, &d] { loop(d); }) {}
+    ~SignalThread() {
+        finished_ = true;
+        pthread_kill(thread_.native_handle(), SIGUSR2);
+        thread_.join();
+    }
+
+private:
+    void loop(daemon::Daemon& d) {
+        const sigset_t set = handledSignals();
+        while (true) {
+            int signal = 0;
+            if (sigwait(&set, &signal) != 0 || finished_) return;
+            switch (signal) {
+                case SIGTERM:
+                case SIGINT: log::get("daemon")->info("signal {}: stopping", signal); d.requestStop(); break;
+                case SIGHUP: d.requestReload(); break;
+                case SIGUSR1: d.requestMeasure(); break;
+                case SIGUSR2: d.requestAlarmReset(); break;
+                default: break;
+            }
+        }
+    }
+    std::atomic<bool> finished_{false};
+    std::thread thread_;
+};
+
+int exitStatusOf(daemon::CycleStatus status) {
+    switch (status) {
+        case daemon::CycleStatus::Ok: return kExitOk;
+        case daemon::CycleStatus::Refused: return kExitFailure;
+        case daemon::CycleStatus::NoBaseline: return kExitNoInput;
+        case daemon::CycleStatus::Fault: return kExitTempFail;
+    }
+    return kExitSoftware;
+}
+
+int serve(const std::string& configFile, const std::string& stateDir, bool once, bool failSafeOnly) {
+    config::Config config = config::loadConfig(configFile);
+    if (!stateDir.empty()) {
+        config.daemon.stateDir = stateDir;
+    }
+    log::setLevel(config.log.level);
+    if (failSafeOnly) {
+        // ExecStopPost: whatever became of the service, leave SCADA reading fault and alarm.
+        gpio::openScadaOutputs(config.gpio)->failSafe();
+        return kExitOk;
+    }
+    daemon::DaemonOptions options{configFile, daemon::sha256OfFile(configFile).value_or(""), ICEWATCH_VERSION};
+    daemon::DaemonParts parts{daemon::makeFrameSource(config), daemon::makeMeasurementChain(config),
+                              once ? nullptr : gpio::openScadaOutputs(config.gpio)};
+    daemon::SystemClock clock;
+    daemon::SystemdNotifier notifier;
+    daemon::Daemon service(config, options, clock, std::move(parts), once ? nullptr : &notifier);
+    SignalThread signals(service);
+    if (once) {
+        const auto result = service.runOnce();
+        if (!result) {
+            return kExitOk;  // stopped by a signal before the cycle finished
+        }
+        std::cout << service.latest()->dump(2) << "\n";
+        return exitStatusOf(result->status);
+    }
+    std::unique_ptr<daemon::HttpApi> http;
+    if (config.http.enabled) {
+        http = std::make_unique<daemon::HttpApi>(service, config.http);
+        service.setReadyStatus("measuring every " + std::to_string(config.daemon.intervalS) + " s, http " +
+                               config.http.address + ":" + std::to_string(http->port()));
+    }
+    service.run();
+    log::get("daemon")->info("stopped");
+    return kExitOk;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    // Block before any thread exists so that every thread inherits the mask.
+    const sigset_t set = handledSignals();
+    pthread_sigmask(SIG_BLOCK, &set, nullptr);
+
+    CLI::App app{"icewatchd: measures the ice on a parked blade, publishes it and signals SCADA"};
+    std::string configFile = "/etc/icewatch/icewatch.json";
+    std::string stateDir;
+    bool once = false, failSafe = false, verbose = false;
+    app.add_option("--config", configFile, "configuration file")->capture_default_str();
+    app.add_option("--state-dir", stateDir, "state directory (overrides daemon.state_dir)");
+    app.add_flag("--once", once,
+                 "one cycle, result JSON on stdout; exit 0 ok, 1 refused, 66 no baseline, 75 fault");
+    app.add_flag("--fail-safe-outputs", failSafe, "de-energise the alarm and healthy lines and exit");
+    app.add_flag("-v,--verbose", verbose, "log debug messages");
+    app.set_version_flag("--version", std::string(ICEWATCH_VERSION));
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        const int status = app.exit(e);
+        return status == 0 ? 0 : kExitUsage;
+    }
+    log::setup(verbose ? "debug" : "info");
+    try {
+        return serve(configFile, stateDir, once, failSafe);
+    } catch (const Error& e) {
+        log::get("daemon")->critical("{}", e.what());
+        return e.code();
+    } catch (const std::exception& e) {
+        log::get("daemon")->critical("internal error: {}", e.what());
+        return kExitSoftware;
+    }
+}

@@ -1,0 +1,52 @@
+#pragma once
+
+#include <map>
+#include <string>
+
+#include <opencv2/core.hpp>
+
+#include "core/common/side_by_side.hpp"
+
+namespace icewatch::daemon {
+
+// Pictures of one measurement for a person (GET /v1/images/latest/...): 8-bit BGR or grey.
+struct ChainPictures {
+    cv::Mat left;       // the left eye as captured
+    cv::Mat disparity;  // false-colour disparity
+    cv::Mat thickness;  // ice-thickness map
+};
+
+struct ChainResult {
+    enum class Status {
+        Ok,       // a volume with its uncertainty
+        Refused,  // the quality gate said no (too few disparities, no texture, ...): not a fault
+        Failed,   // the chain could not run (bad calibration, an internal error): a fault
+    };
+    Status status = Status::Failed;
+    std::string reason;  // why, when not Ok
+    double volumeMm3 = 0.0;
+    double uncertaintyMm3 = 0.0;  // expanded: coverageFactor standard deviations
+    double coverageFactor = 1.0;
+    double meanThicknessMm = 0.0;
+    double maxThicknessMm = 0.0;
+    double validPercent = 0.0;    // share of the region with a valid disparity
+    std::map<std::string, double> timingsMs;  // per stage
+    ChainPictures pictures;
+};
+
+// The volume chain as the daemon needs it: rectify, match, reproject, register against the
+// baseline, filter, grid, integrate, gate. Called from the service loop only.
+class MeasurementChain {
+public:
+    virtual ~MeasurementChain() = default;
+
+    // SHA-256 of the calibration it measures with; a baseline taken under another one is not used.
+    virtual std::string calibrationSha256() const = 0;
+    // Builds the reference (clean blade) surface from a pair. Not Ok: no baseline is set.
+    virtual ChainResult setBaseline(const StereoPair& clean) = 0;
+    virtual bool hasBaseline() const = 0;
+    // Measures one pair against the baseline. Bad images are a Refused result, never an exception.
+    virtual ChainResult estimate(const StereoPair& current) = 0;
+};
+
+}  // namespace icewatch::daemon

@@ -1,0 +1,46 @@
+#pragma once
+
+#include <functional>
+#include <optional>
+
+#include "core/config/config.hpp"
+#include "daemon/cycle_result.hpp"
+#include "daemon/frame_source.hpp"
+#include "daemon/measurement_chain.hpp"
+
+namespace icewatch::daemon {
+
+// What one cycle produced before the alarm is applied: the result (alarm field not yet set) and
+// the pictures of the frame nearest the median, empty unless a volume was measured.
+struct CycleOutcome {
+    CycleResult result;
+    ChainPictures pictures;
+};
+
+// Asked between frames; true abandons the cycle (SIGTERM).
+using CancelCheck = std::function<bool()>;
+// Called after every frame: the loop is making progress (the systemd watchdog).
+using ProgressCallback = std::function<void()>;
+
+// One measurement cycle: grab a burst of daemon.burst_frames frames (freshest each), drop those
+// failing the image-health check, measure the rest against the baseline, combine (median volume,
+// spread folded into the uncertainty). nullopt when cancelled. `time` stamps the result; the
+// caller fills alarm, version and config hash.
+std::optional<CycleOutcome> runMeasurementCycle(FrameSource& source, MeasurementChain& chain,
+                                                const config::DaemonConfig& config,
+                                                std::chrono::system_clock::time_point time,
+                                                const CancelCheck& cancelled, const ProgressCallback& progress);
+
+// The clean-blade reference: the sharpest healthy frame of a burst, accepted by the chain.
+struct BaselineCapture {
+    bool ok = false;
+    std::string reason;  // when not ok
+    StereoPair pair;
+};
+BaselineCapture captureBaselinePair(FrameSource& source, MeasurementChain& chain, const config::DaemonConfig& config,
+                                    const CancelCheck& cancelled, const ProgressCallback& progress);
+
+// Median of values (the mean of the middle two for an even count). values must not be empty.
+double median(std::vector<double> values);
+
+}  // namespace icewatch::daemon

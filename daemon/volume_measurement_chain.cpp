@@ -1,0 +1,86 @@
+// The daemon's measurement through the volume chain. A frame that does not fit the calibration
+// (another camera mode) is a failure of the set-up, reported as Failed (a fault), while the
+// chain's own refusals (dark, no texture, registration) are Refused and leave the alarm alone.
+#include "daemon/volume_measurement_chain.hpp"
+
+#include "core/common/error.hpp"
+#include "daemon/sha256.hpp"
+
+namespace icewatch::daemon {
+
+namespace {
+void addTimings(std::map<std::string, double>& out, const volume::Timings& timings, const std::string& prefix) {
+    for (const auto& [stage, ms] : timings) out[prefix + stage] += ms;
+}
+
+ChainResult failure(ChainResult::Status status, std::string reason) {
+    ChainResult r;
+    r.status = status;
+    r.reason = std::move(reason);
+    return r;
+}
+}  // namespace
+
+VolumeMeasurementChain::VolumeMeasurementChain(const std::filesystem::path& calibrationFile,
+                                               const volume::Parameters& parameters)
+    : VolumeMeasurementChain(calib::loadCalibration(calibrationFile), sha256OfFile(calibrationFile).value_or(""),
+                             parameters) {}
+
+VolumeMeasurementChain::VolumeMeasurementChain(const calib::StereoCalibration& calibration,
+                                               std::string calibrationSha256, const volume::Parameters& parameters)
+    : calibrationSha256_(std::move(calibrationSha256)),
+      minValidPercent_(parameters.minValidPercent),
+      coverageFactor_(parameters.coverageFactor),
+      chain_(calibration, parameters, [] { return std::chrono::steady_clock::now(); }) {}
+
+ChainResult VolumeMeasurementChain::setBaseline(const StereoPair& clean) {
+    try {
+        volume::Surface surface = chain_.measureSurface(clean);
+        if (surface.validPercent < minValidPercent_) {
+            return failure(ChainResult::Status::Refused,
+                           "baseline has " + std::to_string(static_cast<int>(surface.validPercent)) +
+                               " % valid disparities in the region, " +
+                               std::to_string(static_cast<int>(minValidPercent_)) + " % needed");
+        }
+        baseline_ = std::move(surface);
+    } catch (const InvalidInput& e) {
+        return failure(ChainResult::Status::Failed, e.what());
+    }
+    ChainResult ok;
+    ok.status = ChainResult::Status::Ok;
+    return ok;
+}
+
+ChainResult VolumeMeasurementChain::estimate(const StereoPair& current) {
+    if (!baseline_) {
+        return failure(ChainResult::Status::Failed, "no baseline set");
+    }
+    volume::Surface surface;
+    try {
+        surface = chain_.measureSurface(current);
+    } catch (const InvalidInput& e) {
+        return failure(ChainResult::Status::Failed, e.what());
+    }
+    const volume::VolumeResult v = chain_.estimate(*baseline_, surface);
+    ChainResult r;
+    addTimings(r.timingsMs, surface.timingsMs, "");
+    addTimings(r.timingsMs, v.timingsMs, "");
+    if (!v.ok) {
+        r.status = ChainResult::Status::Refused;
+        r.reason = v.reason;
+        return r;
+    }
+    r.status = ChainResult::Status::Ok;
+    r.volumeMm3 = v.volumeMm3;
+    r.uncertaintyMm3 = v.uncertaintyMm3;
+    r.coverageFactor = coverageFactor_;
+    r.meanThicknessMm = v.meanThicknessMm;
+    r.maxThicknessMm = v.maxThicknessMm;
+    r.validPercent = v.validPercent;
+    r.pictures.left = current.left;
+    r.pictures.disparity = v.disparityColour;
+    r.pictures.thickness = v.thicknessColour;
+    return r;
+}
+
+}  // namespace icewatch::daemon

@@ -1,0 +1,33 @@
+#pragma once
+
+#include <filesystem>
+#include <optional>
+
+#include "core/volume/chain.hpp"
+#include "daemon/measurement_chain.hpp"
+
+namespace icewatch::daemon {
+
+// MeasurementChain over the volume chain (core/volume): the baseline is kept as a measured
+// surface, each estimate measures the current pair and compares.
+class VolumeMeasurementChain : public MeasurementChain {
+public:
+    // Throws Error when the calibration file is missing or invalid, or the parameters are unusable.
+    VolumeMeasurementChain(const std::filesystem::path& calibrationFile, const volume::Parameters& parameters);
+    VolumeMeasurementChain(const calib::StereoCalibration& calibration, std::string calibrationSha256,
+                           const volume::Parameters& parameters);
+
+    std::string calibrationSha256() const override { return calibrationSha256_; }
+    ChainResult setBaseline(const StereoPair& clean) override;
+    bool hasBaseline() const override { return baseline_.has_value(); }
+    ChainResult estimate(const StereoPair& current) override;
+
+private:
+    std::string calibrationSha256_;
+    double minValidPercent_;
+    double coverageFactor_;
+    volume::VolumeChain chain_;
+    std::optional<volume::Surface> baseline_;
+};
+
+}  // namespace icewatch::daemon

@@ -1,0 +1,78 @@
+#include "core/health/image_health.hpp"
+
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+#include "core/common/error.hpp"
+
+namespace icewatch::health {
+namespace {
+
+// A textured scene like a lit blade against sky: random blobs, mid grey, sharp edges.
+cv::Mat texturedScene(double gain = 1.0, double offset = 0.0) {
+    cv::Mat noise(240, 320, CV_8UC1);
+    cv::RNG rng(7);
+    rng.fill(noise, cv::RNG::UNIFORM, 40, 200);
+    cv::Mat scene;
+    noise.convertTo(scene, CV_8U, gain, offset);
+    cv::Mat bgr;
+    cv::cvtColor(scene, bgr, cv::COLOR_GRAY2BGR);
+    return bgr;
+}
+
+std::vector<std::string> flags(const ImageHealth& h) {
+    std::vector<std::string> out;
+    for (const auto& p : h.problems) out.push_back(p.flag);
+    return out;
+}
+
+const config::ImageHealthConfig kLimits{};
+
+TEST(ImageHealth, TexturedDaylightSceneIsHealthy) {
+    const ImageHealth h = checkImageHealth(texturedScene(), kLimits);
+    EXPECT_TRUE(h.ok()) << (h.problems.empty() ? "" : h.problems[0].reason) << " sharpness " << h.sharpness;
+    EXPECT_NEAR(h.meanLevel, 120, 3);
+}
+
+TEST(ImageHealth, NightIsDark) {
+    const ImageHealth h = checkImageHealth(texturedScene(0.15), kLimits);
+    // A dark image has little detail left either; what matters is that darkness is named first.
+    ASSERT_FALSE(h.ok());
+    EXPECT_EQ(flags(h).front(), "dark");
+    EXPECT_NE(h.problems[0].reason.find("below 25.0"), std::string::npos) << h.problems[0].reason;
+}
+
+TEST(ImageHealth, SunInTheLensIsSaturated) {
+    const ImageHealth h = checkImageHealth(texturedScene(1.0, 120), kLimits);
+    EXPECT_EQ(flags(h), (std::vector<std::string>{"saturated"}));
+}
+
+TEST(ImageHealth, FogIsLowContrast) {
+    const ImageHealth h = checkImageHealth(texturedScene(0.03, 110), kLimits);
+    ASSERT_FALSE(h.ok());
+    EXPECT_EQ(flags(h).front(), "low_contrast") << h.contrast;
+    EXPECT_GT(h.meanLevel, kLimits.minMeanLevel);
+}
+
+TEST(ImageHealth, DropletsBlur) {
+    // The textured scene seen through water: the detail is gone, the contrast (stretched back to
+    // what the sharp scene had) is not.
+    cv::Mat grey, greyF, blurred, stretched;
+    cv::cvtColor(texturedScene(), grey, cv::COLOR_BGR2GRAY);
+    grey.convertTo(greyF, CV_32F);
+    cv::GaussianBlur(greyF, blurred, cv::Size(0, 0), 12);
+    cv::normalize(blurred, blurred, 60, 190, cv::NORM_MINMAX);
+    blurred.convertTo(stretched, CV_8U);
+    const ImageHealth h = checkImageHealth(stretched, kLimits);
+    EXPECT_EQ(flags(h), (std::vector<std::string>{"blurred"})) << h.sharpness << " " << h.contrast;
+    EXPECT_GT(h.contrast, kLimits.minContrast);
+    EXPECT_GT(checkImageHealth(texturedScene(), kLimits).sharpness, 10 * h.sharpness);
+}
+
+TEST(ImageHealth, RejectsWhatIsNotAnImage) {
+    EXPECT_THROW(checkImageHealth(cv::Mat(), kLimits), InvalidInput);
+    EXPECT_THROW(checkImageHealth(cv::Mat(10, 10, CV_32FC1, 0.5f), kLimits), InvalidInput);
+}
+
+}  // namespace
+}  // namespace icewatch::health

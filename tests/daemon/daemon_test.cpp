@@ -1,0 +1,346 @@
+#include "daemon/daemon.hpp"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "core/common/error.hpp"
+#include "daemon/baseline_store.hpp"
+#include "tests/daemon/rig.hpp"
+
+namespace icewatch::daemon::test {
+namespace {
+
+using gpio::LineTransition;
+
+ChainResult volumeEachCall(int call, const std::vector<double>& perCycle, int burst) {
+    return okResult(perCycle[static_cast<std::size_t>((call - 1) / burst)]);
+}
+
+TEST(Daemon, LatestJsonCarriesEveryField) {
+    Rig rig({}, icewatch::test::freshTempDir(), [](ScriptedChain& c) {
+        c.script = [](int call, const StereoPair&) { return okResult(std::vector{1000.0, 1100.0, 1300.0}[call - 1], 10.0, call); };
+    });
+    ASSERT_TRUE(rig.daemon->runOnce());
+    const nlohmann::json doc = rig.latestFile();
+    ASSERT_TRUE(doc.is_object());
+    EXPECT_EQ(doc["schema"], 1);
+    EXPECT_EQ(doc["time"], "2026-01-01T00:00:00Z");
+    EXPECT_EQ(doc["status"], "ok");
+    EXPECT_TRUE(doc["reason"].is_null());
+    EXPECT_DOUBLE_EQ(doc["volume_mm3"].get<double>(), 1100.0);  // the median of the burst
+    // Per-frame 10 mm³ and the burst's spread (1.4826 x MAD = 1.4826 x 100) in quadrature.
+    EXPECT_NEAR(doc["uncertainty_mm3"].get<double>(), std::hypot(10.0, 148.26), 1e-9);
+    EXPECT_DOUBLE_EQ(doc["mean_thickness_mm"].get<double>(), 2.0);
+    EXPECT_DOUBLE_EQ(doc["max_thickness_mm"].get<double>(), 6.0);
+    EXPECT_DOUBLE_EQ(doc["valid_percent"].get<double>(), 90.0);
+    EXPECT_EQ(doc["alarm"], "alarm");
+    EXPECT_EQ(doc["camera"], "ok");
+    EXPECT_EQ(doc["quality"]["frames_grabbed"], 3);
+    EXPECT_EQ(doc["quality"]["frames_healthy"], 3);
+    EXPECT_EQ(doc["quality"]["frames_measured"], 3);
+    EXPECT_TRUE(doc["quality"]["flags"].empty());
+    for (const char* stage : {"grab", "health", "measure", "total", "chain_match", "chain_integrate"}) {
+        EXPECT_TRUE(doc["timings_ms"].contains(stage)) << stage;
+    }
+    EXPECT_EQ(doc["version"], "test-version");
+    EXPECT_EQ(doc["config_sha256"], "cafe");
+    EXPECT_FALSE(doc.contains("stale")) << "staleness is computed when served, not stored";
+    for (const char* picture : {"left", "disparity", "thickness"}) {
+        EXPECT_TRUE(std::filesystem::exists(rig.dir / "images" / (std::string(picture) + ".png"))) << picture;
+    }
+}
+
+TEST(Daemon, StaleOnceOlderThanTwoIntervals) {
+    Rig rig;
+    ASSERT_TRUE(rig.daemon->runOnce());
+    EXPECT_FALSE((*rig.daemon->latest())["stale"].get<bool>());
+    rig.clock.advance(std::chrono::seconds(1200));
+    EXPECT_FALSE((*rig.daemon->latest())["stale"].get<bool>());
+    rig.clock.advance(std::chrono::seconds(1));
+    EXPECT_TRUE((*rig.daemon->latest())["stale"].get<bool>());
+    EXPECT_EQ(rig.daemon->health()["status"], "fault");
+}
+
+TEST(Daemon, ADayOfTenMinuteCyclesInHistory) {
+    Rig rig({}, icewatch::test::freshTempDir(), [](ScriptedChain& c) {
+        c.script = [](int, const StereoPair&) { return okResult(50.0); };
+    });
+    rig.daemon->runUntil(rig.at(24 * 3600));
+    const auto rows = rig.daemon->history(testEpoch(), 100000);
+    ASSERT_EQ(rows.size(), 144u);
+    EXPECT_EQ(rows.front()["time"], "2026-01-01T00:00:00Z");
+    EXPECT_EQ(rows[1]["time"], "2026-01-01T00:10:00Z");
+    EXPECT_EQ(rows.back()["time"], "2026-01-01T23:50:00Z");
+    EXPECT_EQ(rig.chain->calls, 144 * 3);
+    for (const auto& row : rows) {
+        EXPECT_EQ(row["status"], "ok");
+        EXPECT_EQ(row["alarm"], "none");
+        EXPECT_DOUBLE_EQ(row["volume_mm3"].get<double>(), 50.0);
+        EXPECT_EQ(row["quality"]["frames_measured"], 3);
+    }
+    // Nothing moved all day: one transition per line when the first result came.
+    EXPECT_EQ(rig.transitions(), (std::vector<LineTransition>{{"alarm", true}, {"healthy", true}}));
+    EXPECT_EQ(rig.latestFile()["time"], "2026-01-01T23:50:00Z");
+}
+
+TEST(Daemon, HistoryIsPrunedByAge) {
+    Rig rig(
+        [](config::Config& c) {
+            c.history.retentionDays = 1;
+            c.daemon.intervalS = 3600;
+        },
+        icewatch::test::freshTempDir(),
+        [](ScriptedChain& c) { c.script = [](int, const StereoPair&) { return okResult(50.0); }; });
+    rig.daemon->runUntil(rig.at(2 * 24 * 3600));
+    const auto rows = rig.daemon->history(testEpoch(), 100000);
+    // The last cycle ran at 47:00; rows from 23:00 on are within a day of it.
+    ASSERT_EQ(rows.size(), 25u);
+    EXPECT_EQ(rows.front()["time"], "2026-01-01T23:00:00Z");
+}
+
+TEST(Daemon, GpioFollowsAnIceSeriesWithHysteresis) {
+    const std::vector<double> series{0, 90, 120, 180, 250, 300, 170, 140, 90, 70, 0};
+    const std::vector<std::string> levels{"none",  "none",  "warning", "warning", "alarm", "alarm",
+                                          "alarm", "warning", "warning", "none",  "none"};
+    Rig rig({}, icewatch::test::freshTempDir(), [&](ScriptedChain& c) {
+        c.script = [&](int call, const StereoPair&) { return volumeEachCall(call, series, 3); };
+    });
+    auto closed = std::make_shared<bool>(false);
+    rig.source->closedOutside = closed;
+    rig.daemon->runUntil(rig.at(600 * static_cast<int>(series.size() - 1) + 1));
+    const auto rows = rig.daemon->history(testEpoch(), 1000);
+    ASSERT_EQ(rows.size(), series.size());
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        EXPECT_EQ(rows[i]["alarm"], levels[i]) << "cycle " << i << " volume " << series[i];
+    }
+    rig.daemon.reset();  // shutdown: outputs left fail-safe
+    const std::vector<LineTransition> expected{
+        {"alarm", true},   {"healthy", true},  // first result: no ice, system healthy
+        {"alarm", false},                      // 250: alarm (the warning at 120 is not wired out)
+        {"alarm", true},                       // 140: back to warning, below alarm_clear 150
+        {"healthy", false}, {"alarm", false},  // shutdown
+    };
+    EXPECT_EQ(rig.transitions(), expected);
+    EXPECT_TRUE(*closed) << "the camera is released on shutdown";
+}
+
+TEST(Daemon, CameraUnpluggedMidCycleThenPluggedBack) {
+    Rig rig({}, icewatch::test::freshTempDir(), [](ScriptedChain& c) {
+        c.script = [](int, const StereoPair&) { return okResult(50.0); };
+    });
+    rig.source->unplugAtGrab = 5;  // the second frame of the second cycle's burst
+    rig.daemon->runUntil(rig.at(900));
+    nlohmann::json doc = rig.latestFile();
+    EXPECT_EQ(doc["time"], "2026-01-01T00:10:00Z");
+    EXPECT_EQ(doc["status"], "fault");
+    EXPECT_EQ(doc["alarm"], "fault");
+    EXPECT_EQ(doc["camera"], "offline");
+    EXPECT_TRUE(doc["volume_mm3"].is_null());
+    EXPECT_NE(doc["reason"].get<std::string>().find("camera lost at frame 2 of the burst"), std::string::npos)
+        << doc["reason"];
+    EXPECT_EQ(rig.daemon->health()["camera"], "offline");
+
+    rig.source->plugged = true;  // plugged back at 00:15:00
+    rig.daemon->runUntil(rig.at(1000));
+    doc = rig.latestFile();
+    // Measured as soon as the camera check saw it, not at the next scheduled cycle (00:20).
+    EXPECT_EQ(doc["time"], "2026-01-01T00:15:00Z");
+    EXPECT_EQ(doc["status"], "ok");
+    EXPECT_EQ(doc["alarm"], "none");
+    EXPECT_EQ(doc["camera"], "ok");
+    const auto rows = rig.daemon->history(testEpoch(), 1000);
+    ASSERT_EQ(rows.size(), 3u);
+    EXPECT_EQ(rows[1]["status"], "fault");
+    EXPECT_EQ(rig.transitions(), (std::vector<LineTransition>{{"alarm", true},
+                                                               {"healthy", true},
+                                                               {"healthy", false},
+                                                               {"alarm", false},
+                                                               {"alarm", true},
+                                                               {"healthy", true}}));
+}
+
+TEST(Daemon, CameraVanishingBetweenCyclesIsAFaultWithinACheck) {
+    Rig rig({}, icewatch::test::freshTempDir(), [](ScriptedChain& c) {
+        c.script = [](int, const StereoPair&) { return okResult(50.0); };
+    });
+    rig.daemon->runUntil(rig.at(100));
+    rig.source->plugged = false;
+    rig.daemon->runUntil(rig.at(106));
+    const nlohmann::json doc = rig.latestFile();
+    EXPECT_EQ(doc["status"], "fault");
+    EXPECT_EQ(doc["time"], "2026-01-01T00:01:40Z");  // the first check after it went
+    EXPECT_EQ(doc["reason"], "camera offline: no such device");
+    EXPECT_EQ(rig.transitions().back(), (LineTransition{"alarm", false}));
+    EXPECT_EQ(rig.daemon->history(testEpoch(), 100).size(), 1u) << "between-cycle faults are not cycles";
+}
+
+TEST(Daemon, RefusedResultsDoNotMoveTheAlarm) {
+    Rig rig({}, icewatch::test::freshTempDir(), [](ScriptedChain& c) {
+        c.script = [](int call, const StereoPair&) {
+            return call <= 3 ? okResult(120.0) : refusedResult("12 % valid disparities in the region, 40 % needed");
+        };
+    });
+    rig.daemon->runUntil(rig.at(601));
+    nlohmann::json doc = rig.latestFile();
+    EXPECT_EQ(doc["status"], "refused");
+    EXPECT_EQ(doc["alarm"], "warning");
+    EXPECT_EQ(doc["reason"], "0 of 3 healthy frames measured, 2 needed: 12 % valid disparities in the region, 40 % needed");
+    EXPECT_EQ(doc["quality"]["flags"].size(), 3u);
+    EXPECT_EQ(doc["quality"]["flags"][0]["flag"], "refused");
+
+    rig.source->frame = [](int) { return texturedPair(0.1); };  // night
+    rig.daemon->runUntil(rig.at(1201));
+    doc = rig.latestFile();
+    EXPECT_EQ(doc["status"], "refused");
+    EXPECT_EQ(doc["alarm"], "warning");
+    EXPECT_EQ(doc["camera"], "degraded");
+    EXPECT_EQ(doc["quality"]["frames_healthy"], 0);
+    EXPECT_NE(doc["reason"].get<std::string>().find("0 of 3 frames passed the image-health check ("),
+              std::string::npos)
+        << doc["reason"];
+    EXPECT_NE(doc["reason"].get<std::string>().find("dark x6"), std::string::npos) << doc["reason"];
+    EXPECT_EQ(doc["quality"]["flags"][0]["flag"], "dark");
+    EXPECT_NE(doc["quality"]["flags"][0]["reason"].get<std::string>().find("frame 1 left: mean level"), std::string::npos);
+    EXPECT_EQ(rig.transitions(), (std::vector<LineTransition>{{"alarm", true}, {"healthy", true}}));
+}
+
+TEST(Daemon, OneBadFrameIsDroppedAndTheRestMeasured) {
+    Rig rig({}, icewatch::test::freshTempDir(), [](ScriptedChain& c) {
+        c.script = [](int, const StereoPair&) { return okResult(50.0); };
+    });
+    rig.source->frame = [](int grab) { return grab == 2 ? texturedPair(0.1) : texturedPair(); };
+    ASSERT_TRUE(rig.daemon->runOnce());
+    const nlohmann::json doc = rig.latestFile();
+    EXPECT_EQ(doc["status"], "ok");
+    EXPECT_EQ(doc["camera"], "degraded");
+    EXPECT_EQ(doc["quality"]["frames_healthy"], 2);
+    EXPECT_EQ(rig.chain->calls, 2);
+}
+
+TEST(Daemon, MeasurementFailureIsAFault) {
+    Rig rig({}, icewatch::test::freshTempDir(), [](ScriptedChain& c) {
+        c.script = [](int, const StereoPair&) {
+            ChainResult r;
+            r.status = ChainResult::Status::Failed;
+            r.reason = "rectification maps do not fit the frame";
+            return r;
+        };
+    });
+    const auto result = rig.daemon->runOnce();
+    ASSERT_TRUE(result);
+    EXPECT_EQ(result->status, CycleStatus::Fault);
+    EXPECT_EQ(rig.latestFile()["reason"], "measurement failed: rectification maps do not fit the frame");
+    EXPECT_EQ(rig.latestFile()["alarm"], "fault");
+    EXPECT_TRUE(rig.transitions().empty()) << "never shown as no ice";
+}
+
+TEST(Daemon, NoBaselineUntilOneIsCapturedThenItSurvivesARestart) {
+    const auto dir = icewatch::test::freshTempDir();
+    {
+        Rig rig({}, dir, [](ScriptedChain& c) {
+            c.baselineSet = false;
+            c.script = [](int, const StereoPair&) { return okResult(50.0); };
+        });
+        const auto first = rig.daemon->runOnce();
+        ASSERT_TRUE(first);
+        EXPECT_EQ(first->status, CycleStatus::NoBaseline);
+        EXPECT_EQ(rig.latestFile()["status"], "no_baseline");
+        EXPECT_EQ(rig.latestFile()["alarm"], "fault");
+        EXPECT_TRUE(rig.daemon->health()["baseline"].is_null());
+
+        rig.daemon->requestBaseline();
+        rig.daemon->runUntil(rig.at(1));
+        EXPECT_EQ(rig.latestFile()["status"], "ok") << "a cycle follows a new baseline at once";
+        const nlohmann::json stored = readJsonFile(dir / "baseline" / "baseline.json");
+        EXPECT_EQ(stored["calibration_sha256"], "c0ffee");
+        EXPECT_EQ(stored["time"], "2026-01-01T00:00:00Z");
+        EXPECT_EQ(rig.daemon->health()["baseline"]["time"], "2026-01-01T00:00:00Z");
+        EXPECT_TRUE(rig.daemon->health()["last_baseline_capture"]["ok"].get<bool>());
+    }
+    {
+        Rig again({}, dir, [](ScriptedChain& c) { c.baselineSet = false; });
+        EXPECT_TRUE(again.chain->hasBaseline()) << "the stored baseline is loaded at start";
+        EXPECT_EQ(again.daemon->runOnce()->status, CycleStatus::Ok);
+    }
+    {
+        Rig recalibrated({}, dir, [](ScriptedChain& c) {
+            c.baselineSet = false;
+            c.calibration = "another-calibration";
+        });
+        EXPECT_EQ(recalibrated.daemon->runOnce()->status, CycleStatus::NoBaseline);
+    }
+}
+
+TEST(Daemon, BaselineCaptureRefusesADarkScene) {
+    Rig rig({}, icewatch::test::freshTempDir(), [](ScriptedChain& c) { c.baselineSet = false; });
+    rig.source->frame = [](int) { return texturedPair(0.1); };
+    rig.daemon->requestBaseline();
+    rig.daemon->runUntil(rig.at(1));
+    const auto capture = rig.daemon->health()["last_baseline_capture"];
+    EXPECT_FALSE(capture["ok"].get<bool>());
+    EXPECT_NE(capture["reason"].get<std::string>().find("no frame of the burst passed the image-health check"),
+              std::string::npos);
+    EXPECT_FALSE(std::filesystem::exists(rig.dir / "baseline" / "baseline.json"));
+}
+
+TEST(Daemon, LatchedAlarmNeedsAReset) {
+    Rig rig([](config::Config& c) { c.alarm.latch = true; }, icewatch::test::freshTempDir(), [](ScriptedChain& c) {
+        c.script = [](int call, const StereoPair&) { return okResult(call <= 3 ? 250.0 : 10.0); };
+    });
+    rig.daemon->runUntil(rig.at(601));
+    EXPECT_EQ(rig.latestFile()["alarm"], "alarm");
+    rig.daemon->requestAlarmReset();
+    rig.daemon->runUntil(rig.at(602));
+    EXPECT_EQ(rig.latestFile()["alarm"], "none");
+    EXPECT_EQ(rig.transitions().back(), (LineTransition{"alarm", true}));
+}
+
+TEST(Daemon, ReloadKeepsTheOldConfigWhenTheNewOneIsInvalid) {
+    const auto dir = icewatch::test::freshTempDir();
+    const auto file = dir / "icewatch.json";
+    std::ofstream(file) << R"({"daemon": {"interval_s": 600}})";
+    Rig rig({}, dir / "state");
+    // Re-create the daemon with the config file known, keeping the rig's doubles simple.
+    rig.daemon.reset();
+    auto source = std::make_unique<ScriptedSource>();
+    auto chain = std::make_unique<ScriptedChain>();
+    chain->script = [](int, const StereoPair&) { return okResult(50.0); };
+    Daemon daemon(rig.config, DaemonOptions{file, "first", "v"}, rig.clock,
+                  DaemonParts{std::move(source), std::move(chain), nullptr});
+
+    std::ofstream(file) << R"({"daemon": {"interval_s": "often"}})";
+    daemon.requestReload();
+    daemon.runUntil(rig.at(1));
+    nlohmann::json health = daemon.health();
+    EXPECT_EQ(health["reloads"]["failed"], 1);
+    EXPECT_NE(health["reloads"]["last_error"].get<std::string>().find("daemon.interval_s: must be an integer"),
+              std::string::npos);
+    EXPECT_EQ(health["interval_s"], 600);
+    EXPECT_EQ(health["config_sha256"], "first");
+
+    std::ofstream(file) << R"({"daemon": {"interval_s": 300}})";
+    daemon.requestReload();
+    daemon.runUntil(rig.at(2));
+    health = daemon.health();
+    EXPECT_EQ(health["reloads"]["count"], 2);
+    EXPECT_TRUE(health["reloads"]["last_error"].is_null());
+    EXPECT_EQ(health["interval_s"], 300);
+    EXPECT_EQ(health["config_sha256"].get<std::string>().size(), 64u);
+    // The state directory is not taken from the reloaded file (a restart-only setting).
+    EXPECT_EQ(health["state_dir"], (dir / "state").string());
+}
+
+TEST(Daemon, OneDaemonPerStateDirectory) {
+    const auto dir = icewatch::test::freshTempDir();
+    Rig first({}, dir);
+    try {
+        Rig second({}, dir);
+        FAIL() << "a second daemon on the same state directory must not start";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.code(), kExitTempFail);
+    }
+}
+
+}  // namespace
+}  // namespace icewatch::daemon::test

@@ -1,0 +1,170 @@
+#include "daemon/http_api.hpp"
+
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <httplib.h>
+
+#include <gtest/gtest.h>
+
+#include "tests/daemon/rig.hpp"
+
+namespace icewatch::daemon::test {
+namespace {
+
+struct Api {
+    explicit Api(const std::function<void(config::Config&)>& adjust = {})
+        : rig(adjust), http(*rig.daemon, rig.config.http), client("127.0.0.1", http.port()) {}
+    Rig rig;
+    HttpApi http;
+    httplib::Client client;
+};
+
+nlohmann::json body(const httplib::Result& r) {
+    return nlohmann::json::parse(r->body, nullptr, false);
+}
+
+// Sends raw bytes and returns the first line of the answer.
+std::string rawExchange(int port, const std::string& request) {
+    const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+    sockaddr_in addr{};
+    addr.sin_family = AF_INET;
+    addr.sin_port = htons(static_cast<uint16_t>(port));
+    addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    if (::connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) {
+        ::close(fd);
+        return "connect failed";
+    }
+    (void)!::write(fd, request.data(), request.size());
+    ::shutdown(fd, SHUT_WR);
+    std::string answer;
+    char buffer[4096];
+    ssize_t n = 0;
+    while ((n = ::read(fd, buffer, sizeof buffer)) > 0) answer.append(buffer, static_cast<std::size_t>(n));
+    ::close(fd);
+    return answer.substr(0, answer.find("\r\n"));
+}
+
+TEST(HttpApi, LatestBeforeAndAfterTheFirstResult) {
+    Api api;
+    auto r = api.client.Get("/v1/latest");
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 503);
+    EXPECT_EQ(body(r)["error"], "no result yet");
+
+    api.rig.daemon->runOnce();
+    r = api.client.Get("/v1/latest");
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 200);
+    EXPECT_EQ(r->get_header_value("Content-Type"), "application/json");
+    const auto doc = body(r);
+    EXPECT_EQ(doc["status"], "ok");
+    EXPECT_EQ(doc["volume_mm3"], 1000.0);
+    EXPECT_EQ(doc["stale"], false);
+    EXPECT_EQ(doc["time"], api.rig.latestFile()["time"]);
+}
+
+TEST(HttpApi, HistoryWithSinceAndLimit) {
+    Api api;
+    api.rig.daemon->runUntil(api.rig.at(3 * 600 + 1));
+    auto r = api.client.Get("/v1/history?since=2026-01-01T00:10:00Z");
+    ASSERT_TRUE(r);
+    ASSERT_EQ(r->status, 200);
+    auto rows = body(r);
+    ASSERT_EQ(rows.size(), 3u);
+    EXPECT_EQ(rows[0]["time"], "2026-01-01T00:10:00Z");
+    r = api.client.Get("/v1/history?since=2026-01-01&limit=2");
+    ASSERT_TRUE(r);
+    EXPECT_EQ(body(r).size(), 2u);
+    r = api.client.Get("/v1/history");  // default: the last 24 h
+    ASSERT_TRUE(r);
+    EXPECT_EQ(body(r).size(), 4u);
+}
+
+TEST(HttpApi, MalformedRequestsGetJsonErrors) {
+    Api api;
+    const std::vector<std::pair<std::string, int>> cases{
+        {"/v1/history?since=yesterday", 400},
+        {"/v1/history?since=2026-02-30T00:00:00Z", 400},
+        {"/v1/history?since=2026-01-01T25:00:00Z", 400},
+        {"/v1/history?limit=0", 400},
+        {"/v1/history?limit=12abc", 400},
+        {"/v1/history?limit=99999999999999999999", 400},
+        {"/v1/nothing", 404},
+        {"/v1/images/latest/left.png", 404},  // no cycle yet
+        {"/v1/images/latest/secret.png", 404},
+        {"/v1/images/latest/../../etc/passwd", 404},
+        {"/v1/measure", 405},
+    };
+    for (const auto& [path, status] : cases) {
+        auto r = api.client.Get(path.c_str());
+        ASSERT_TRUE(r) << path;
+        EXPECT_EQ(r->status, status) << path;
+        const auto doc = body(r);
+        EXPECT_TRUE(doc.is_object() && doc["error"].is_string()) << path << ": " << r->body;
+    }
+    auto r = api.client.Delete("/v1/latest");
+    ASSERT_TRUE(r);
+    EXPECT_GE(r->status, 400);
+    EXPECT_LT(r->status, 500);
+    EXPECT_TRUE(body(r)["error"].is_string()) << r->body;
+    // Not HTTP at all, and a request line far too long: refused, and the server carries on.
+    // Each is answered with a 4xx or dropped (closed): never a 2xx, never a crash.
+    const std::string garbage = rawExchange(api.http.port(), "\x01\x02garbage\r\n\r\n");
+    EXPECT_TRUE(garbage.empty() || garbage.find(" 400 ") != std::string::npos) << garbage;
+    const std::string longLine = rawExchange(api.http.port(), "GET /" + std::string(20000, 'a') + " HTTP/1.1\r\n\r\n");
+    EXPECT_TRUE(longLine.empty() || longLine.find(" 4") != std::string::npos) << longLine;
+    r = api.client.Get("/v1/health");
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 200);
+}
+
+TEST(HttpApi, PostsAreQueuedForTheLoopAndNeedTheToken) {
+    Api api([](config::Config& c) { c.http.token = "s3cret"; });
+    api.rig.daemon->runUntil(api.rig.at(1));
+    auto r = api.client.Post("/v1/measure");
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 401);
+    EXPECT_TRUE(body(r)["error"].is_string());
+    r = api.client.Post("/v1/measure", httplib::Headers{{"Authorization", "Bearer wrong"}}, "", "text/plain");
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 401);
+    EXPECT_EQ(api.rig.daemon->history(testEpoch(), 10).size(), 1u);
+
+    r = api.client.Post("/v1/measure", httplib::Headers{{"Authorization", "Bearer s3cret"}}, "", "text/plain");
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 202);
+    EXPECT_EQ(body(r)["accepted"], "measure");
+    api.rig.daemon->runUntil(api.rig.at(2));
+    EXPECT_EQ(api.rig.daemon->history(testEpoch(), 10).size(), 2u) << "the request ran a cycle";
+}
+
+TEST(HttpApi, PicturesOfTheLastCycle) {
+    Api api;
+    api.rig.daemon->runOnce();
+    for (const char* name : {"left", "disparity", "thickness"}) {
+        auto r = api.client.Get((std::string("/v1/images/latest/") + name + ".png").c_str());
+        ASSERT_TRUE(r) << name;
+        EXPECT_EQ(r->status, 200) << name;
+        EXPECT_EQ(r->get_header_value("Content-Type"), "image/png");
+        EXPECT_EQ(r->body.substr(1, 3), "PNG") << name;
+    }
+}
+
+TEST(HttpApi, HealthSaysWhatIsWrong) {
+    Api api;
+    api.rig.source->plugged = false;
+    api.rig.daemon->runOnce();
+    auto r = api.client.Get("/v1/health");
+    ASSERT_TRUE(r);
+    const auto health = body(r);
+    EXPECT_EQ(health["status"], "fault");
+    EXPECT_EQ(health["camera"], "offline");
+    EXPECT_EQ(health["alarm"], "fault");
+    EXPECT_EQ(health["version"], "test-version");
+}
+
+}  // namespace
+}  // namespace icewatch::daemon::test

@@ -1,0 +1,200 @@
+// icewatchd as a process: readiness over a real NOTIFY_SOCKET, SIGHUP with an invalid config,
+// SIGTERM, --once and a bad configuration. Waits are for events (a datagram, an exit, an answer),
+// with generous guards against a hang; no assertion depends on how fast anything is.
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/socket.h>
+#include <sys/un.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <fstream>
+#include <cstring>
+#include <thread>
+
+#include <httplib.h>
+#include <nlohmann/json.hpp>
+
+#include <gtest/gtest.h>
+
+#include "core/calib/stereo_calibration.hpp"
+#include "drivers/gpio/fake_output_line.hpp"
+#include "tests/support/run_program.hpp"
+#include "tests/support/test_paths.hpp"
+
+extern char** environ;
+
+namespace icewatch::daemon::test {
+namespace {
+
+constexpr int kGuardMs = 30000;
+
+// A nominal calibration of the demo recording's mode, and the demo recording through the fake camera.
+std::string configText(const std::filesystem::path& dir, const std::string& interval = "600") {
+    const auto calibration = dir / "calibration.yaml";
+    if (!std::filesystem::exists(calibration)) {
+        calib::saveCalibration(calibration, calib::nominalCalibration({1280, 720}, 80.0, 60.0));
+    }
+    return R"({"daemon": {"interval_s": )" + interval + R"(, "state_dir": ")" + (dir / "state").string() +
+           R"("}, "calibration": {"file": ")" + calibration.string() + R"("}, "camera": {"device": "fake:)" +
+           (icewatch::test::sourceDir() / "tools" / "demo" / "recording").string() + R"("},
+              "gpio": {"chip": "fake:)" + (dir / "gpio.log").string() + R"("}, "http": {"port": 0}})";
+}
+
+class Process {
+public:
+    Process(const std::filesystem::path& dir, const std::vector<std::string>& args) : socketPath_(dir / "notify") {
+        socket_ = ::socket(AF_UNIX, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+        sockaddr_un addr{};
+        addr.sun_family = AF_UNIX;
+        std::strncpy(addr.sun_path, socketPath_.c_str(), sizeof addr.sun_path - 1);
+        if (::bind(socket_, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) {
+            throw std::runtime_error("cannot bind " + socketPath_.string());
+        }
+        std::vector<std::string> env{"NOTIFY_SOCKET=" + socketPath_.string()};
+        for (char** e = environ; *e != nullptr; ++e) {
+            if (std::string(*e).rfind("NOTIFY_SOCKET=", 0) != 0) env.emplace_back(*e);
+        }
+        std::vector<char*> envp, argv;
+        for (auto& e : env) envp.push_back(e.data());
+        envp.push_back(nullptr);
+        std::vector<std::string> all{(icewatch::test::binDir() / "icewatchd").string()};
+        all.insert(all.end(), args.begin(), args.end());
+        for (auto& a : all) argv.push_back(a.data());
+        argv.push_back(nullptr);
+        posix_spawn_file_actions_t actions;
+        posix_spawn_file_actions_init(&actions);
+        const std::string log = (dir / "icewatchd.log").string();
+        posix_spawn_file_actions_addopen(&actions, 2, log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
+        posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
+        if (posix_spawn(&pid_, argv[0], &actions, nullptr, argv.data(), envp.data()) != 0) {
+            throw std::runtime_error("cannot start icewatchd");
+        }
+        posix_spawn_file_actions_destroy(&actions);
+    }
+    ~Process() {
+        if (pid_ > 0) {
+            ::kill(pid_, SIGKILL);
+            ::waitpid(pid_, nullptr, 0);
+        }
+        ::close(socket_);
+    }
+
+    // The next sd_notify datagram containing `what`, or "" when none came in time.
+    std::string awaitNotify(const std::string& what) {
+        pollfd p{socket_, POLLIN, 0};
+        while (::poll(&p, 1, kGuardMs) == 1) {
+            char buffer[4096];
+            const ssize_t n = ::recv(socket_, buffer, sizeof buffer, 0);
+            if (n <= 0) break;
+            const std::string message(buffer, static_cast<std::size_t>(n));
+            if (message.find(what) != std::string::npos) return message;
+        }
+        return "";
+    }
+
+    void signal(int s) { ::kill(pid_, s); }
+
+    // Exit status, or -1 when it did not exit within the guard.
+    int awaitExit() {
+        for (int waited = 0; waited < kGuardMs; waited += 10) {
+            int status = 0;
+            if (::waitpid(pid_, &status, WNOHANG) == pid_) {
+                pid_ = -1;
+                return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+            }
+            std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        }
+        return -1;
+    }
+
+private:
+    std::filesystem::path socketPath_;
+    int socket_ = -1;
+    pid_t pid_ = -1;
+};
+
+int portFrom(const std::string& ready) {
+    const std::string marker = "http 127.0.0.1:";
+    const auto at = ready.find(marker);
+    return at == std::string::npos ? 0 : std::atoi(ready.c_str() + at + marker.size());
+}
+
+TEST(Icewatchd, ReadySighupWithABadConfigKeepsTheOldOneSigtermExitsClean) {
+    const auto dir = icewatch::test::freshTempDir();
+    const auto configFile = dir / "icewatch.json";
+    std::ofstream(configFile) << configText(dir);
+    Process daemon(dir, {"--config", configFile.string()});
+    const std::string ready = daemon.awaitNotify("READY=1");
+    ASSERT_FALSE(ready.empty()) << "no READY=1";
+    const int port = portFrom(ready);
+    ASSERT_GT(port, 0) << ready;
+    httplib::Client client("127.0.0.1", port);
+
+    auto health = [&] {
+        auto r = client.Get("/v1/health");
+        return r ? nlohmann::json::parse(r->body, nullptr, false) : nlohmann::json();
+    };
+    const std::string firstSha = health()["config_sha256"];
+    EXPECT_EQ(firstSha.size(), 64u);
+
+    std::ofstream(configFile) << R"({"daemon": {"interval_s": 5}})";  // below the minimum
+    daemon.signal(SIGHUP);
+    nlohmann::json h;
+    for (int waited = 0; waited < kGuardMs; waited += 20) {
+        h = health();
+        if (h.is_object() && h["reloads"]["count"] == 1) break;
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    EXPECT_EQ(h["reloads"]["failed"], 1);
+    EXPECT_NE(h["reloads"]["last_error"].get<std::string>().find("daemon.interval_s: must be between 10 and 86400"),
+              std::string::npos)
+        << h["reloads"]["last_error"];
+    EXPECT_EQ(h["config_sha256"], firstSha) << "the old configuration stays";
+    EXPECT_EQ(h["interval_s"], 600);
+    EXPECT_EQ(h["alarm"], "fault") << "no baseline in this test: never shown as no ice";
+
+    daemon.signal(SIGTERM);
+    EXPECT_EQ(daemon.awaitExit(), 0);
+    // Whatever the lines did, both end de-energised: fault and alarm for SCADA.
+    bool alarmEnergised = false, healthyEnergised = false;
+    for (const auto& t : gpio::readTransitionFile(dir / "gpio.log")) {
+        (t.line == "alarm" ? alarmEnergised : healthyEnergised) = t.energised;
+    }
+    EXPECT_FALSE(alarmEnergised);
+    EXPECT_FALSE(healthyEnergised);
+    const auto latest = nlohmann::json::parse(std::ifstream(dir / "state" / "latest.json"), nullptr, false);
+    EXPECT_TRUE(latest.is_object()) << "latest.json is valid after the stop";
+}
+
+TEST(Icewatchd, OncePrintsTheResultAndItsStatus) {
+    const auto dir = icewatch::test::freshTempDir();
+    const auto configFile = dir / "icewatch.json";
+    std::ofstream(configFile) << configText(dir);
+    const auto run = icewatch::test::runProgram(
+        {(icewatch::test::binDir() / "icewatchd").string(), "--config", configFile.string(), "--once"});
+    const auto doc = nlohmann::json::parse(run.out, nullptr, false);
+    ASSERT_TRUE(doc.is_object()) << run.out << run.err;
+    const std::map<std::string, int> statusOf{{"ok", 0}, {"refused", 1}, {"no_baseline", 66}, {"fault", 75}};
+    ASSERT_TRUE(statusOf.count(doc["status"]));
+    EXPECT_EQ(run.status, statusOf.at(doc["status"])) << run.err;
+    EXPECT_EQ(doc["status"], "no_baseline") << run.err;
+    EXPECT_EQ(doc["camera"], "ok") << "the demo recording plays through the fake camera";
+    EXPECT_TRUE(std::filesystem::exists(dir / "state" / "latest.json"));
+}
+
+TEST(Icewatchd, InvalidConfigurationExits78) {
+    const auto dir = icewatch::test::freshTempDir();
+    const auto configFile = dir / "icewatch.json";
+    std::ofstream(configFile) << R"({"alarm": {"warning_set": 1, "warning_clear": 2}})";
+    const auto run = icewatch::test::runProgram(
+        {(icewatch::test::binDir() / "icewatchd").string(), "--config", configFile.string(), "--once"});
+    EXPECT_EQ(run.status, 78);
+    EXPECT_NE(run.err.find("alarm.warning_clear: must be below warning_set"), std::string::npos) << run.err;
+    EXPECT_FALSE(std::filesystem::exists(dir / "state")) << "no state touched";
+}
+
+}  // namespace
+}  // namespace icewatch::daemon::test

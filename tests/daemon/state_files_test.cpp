@@ -1,0 +1,130 @@
+// latest.json's atomic replacement, ISO times, history rows and CSV.
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "core/common/error.hpp"
+#include "daemon/atomic_file.hpp"
+#include "daemon/cycle_result.hpp"
+#include "daemon/history.hpp"
+#include "daemon/iso_time.hpp"
+#include "tests/daemon/rig.hpp"
+
+namespace icewatch::daemon::test {
+namespace {
+
+std::string readFile(const std::filesystem::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+TEST(AtomicFile, AKillDuringWritesLeavesTheOldOrTheNewDocument) {
+    // A writer process replaces latest.json with two different large documents in turn until it
+    // is killed; whenever the kill lands, the file must be one of the two, whole.
+    const auto dir = icewatch::test::freshTempDir();
+    const auto path = dir / "latest.json";
+    const std::string a = nlohmann::json{{"doc", "a"}, {"pad", std::string(200000, 'a')}}.dump();
+    const std::string b = nlohmann::json{{"doc", "b"}, {"pad", std::string(300000, 'b')}}.dump();
+    ASSERT_TRUE(writeFileAtomically(path, a));
+    for (int round = 0; round < 8; ++round) {
+        int ready[2];
+        ASSERT_EQ(::pipe(ready), 0);
+        const pid_t pid = ::fork();
+        ASSERT_GE(pid, 0);
+        if (pid == 0) {
+            ::close(ready[0]);
+            for (long i = 0;; ++i) {
+                writeFileAtomically(path, i % 2 == 0 ? b : a, Durability::AtomicOnly);
+                if (i == 3 + round) (void)!::write(ready[1], "x", 1);  // mid-stream from here on
+            }
+        }
+        ::close(ready[1]);
+        char c;
+        ASSERT_EQ(::read(ready[0], &c, 1), 1);
+        ::close(ready[0]);
+        ::kill(pid, SIGKILL);
+        int status = 0;
+        ::waitpid(pid, &status, 0);
+        const std::string content = readFile(path);
+        EXPECT_TRUE(content == a || content == b) << "round " << round << ": " << content.size() << " bytes";
+        removeStaleTemporaries(dir);
+    }
+    std::size_t files = 0;
+    for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir)) ++files;
+    EXPECT_EQ(files, 1u) << "temporaries of killed writers are cleaned up";
+}
+
+TEST(AtomicFile, FailsWithoutTouchingTheTarget) {
+    EXPECT_FALSE(writeFileAtomically("/nonexistent-dir/latest.json", "{}"));
+}
+
+TEST(IsoTime, FormatsAndParses) {
+    const auto t = *parseIsoUtc("2026-03-04T05:06:07Z");
+    EXPECT_EQ(formatIsoUtc(t), "2026-03-04T05:06:07Z");
+    EXPECT_EQ(formatIsoUtc(*parseIsoUtc("2026-03-04")), "2026-03-04T00:00:00Z");
+    EXPECT_EQ(formatIsoUtc(*parseIsoUtc("2026-03-04T05:06:07+02:00")), "2026-03-04T03:06:07Z");
+    EXPECT_EQ(formatIsoUtc(*parseIsoUtc("2026-03-04T05:06:07.900Z")), "2026-03-04T05:06:07Z");
+    EXPECT_EQ(formatIsoUtc(*parseIsoUtc("2026-03-04 05:06")), "2026-03-04T05:06:00Z");
+    for (const char* bad : {"", "yesterday", "2026-13-01", "2026-02-29", "2026-01-01T24:00:00Z", "2026-01-01T00:00:00+25:00",
+                            "2026-01-01T00:00:00Zjunk", "20260101"}) {
+        EXPECT_FALSE(parseIsoUtc(bad)) << bad;
+    }
+}
+
+TEST(History, RowsCarryTheResultFields) {
+    const auto dir = icewatch::test::freshTempDir();
+    CycleResult r;
+    r.time = testEpoch();
+    r.status = CycleStatus::Refused;
+    r.reason = "fog, \"thick\"";
+    r.alarm = alarm::AlarmLevel::Warning;
+    r.camera = CameraState::Degraded;
+    r.quality = {{"low_contrast", "frame 1 left: grey-level deviation 2.0 below 6.0"}};
+    r.timingsMs = {{"grab", 3.5}};
+    r.version = "1.2.3";
+    r.configSha256 = "abc";
+    {
+        History history(dir / "h.sqlite");
+        ASSERT_TRUE(history.append(r));
+        r.time += std::chrono::minutes(10);
+        r.status = CycleStatus::Ok;
+        r.reason.clear();
+        r.volumeMm3 = 1234.5;
+        r.uncertaintyMm3 = 50;
+        r.meanThicknessMm = 1.5;
+        r.maxThicknessMm = 4;
+        r.validPercent = 88;
+        ASSERT_TRUE(history.append(r));
+    }
+    History readOnly(dir / "h.sqlite", History::Mode::ReadOnly);
+    const auto rows = readOnly.since(testEpoch(), 10);
+    ASSERT_EQ(rows.size(), 2u);
+    EXPECT_EQ(rows[0], toJson([&] {
+                  CycleResult first = r;
+                  first.time = testEpoch();
+                  first.status = CycleStatus::Refused;
+                  first.reason = "fog, \"thick\"";
+                  first.volumeMm3.reset();
+                  first.uncertaintyMm3.reset();
+                  first.meanThicknessMm.reset();
+                  first.maxThicknessMm.reset();
+                  first.validPercent.reset();
+                  return first;
+              }()));
+    EXPECT_EQ(rows[1], toJson(r));
+    EXPECT_EQ(readOnly.since(testEpoch() + std::chrono::minutes(5), 10).size(), 1u);
+    EXPECT_EQ(historyCsvHeader(),
+              "time,status,reason,volume_mm3,uncertainty_mm3,mean_thickness_mm,max_thickness_mm,valid_percent,alarm,"
+              "camera,quality,version,config_sha256");
+    EXPECT_EQ(historyCsvLine(rows[0]),
+              "2026-01-01T00:00:00Z,refused,\"fog, \"\"thick\"\"\",,,,,,warning,degraded,low_contrast: frame 1 left: "
+              "grey-level deviation 2.0 below 6.0,1.2.3,abc");
+    EXPECT_THROW(History(dir / "missing.sqlite", History::Mode::ReadOnly), Error);
+}
+
+}  // namespace
+}  // namespace icewatch::daemon::test
