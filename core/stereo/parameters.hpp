@@ -69,6 +69,8 @@ struct Parameters {
     int votingIterations = 5;     // Mei: 5
     int votingMinCount = 10;      // tau_S: reliable pixels the region needs. Mei: 20
     double votingMinRatio = 0.3;  // tau_H: share of the most frequent disparity. Mei: 0.4
+    // Mei's depth-discontinuity adjustment after interpolation (refinement.cpp).
+    bool discontinuityAdjustment = true;
     // Sub-pixel: V fit on the aggregated cost, then 1-D Lucas-Kanade on the grey images to remove
     // the pixel locking the fit leaves (refinement.cpp explains; the volume depends on it).
     bool subpixelIntensityRefinement = true;
