@@ -120,6 +120,7 @@ void readStereo(Section s, stereo::Parameters& p) {
     s.read("voting_iterations", p.votingIterations, 0, 20);
     s.read("voting_min_count", p.votingMinCount, 0, 100000);
     s.read("voting_min_ratio", p.votingMinRatio, 0.0, 1.0);
+    s.read("discontinuity_adjustment", p.discontinuityAdjustment);
     s.read("subpixel_intensity_refinement", p.subpixelIntensityRefinement);
     s.read("subpixel_window_radius", p.subpixelWindowRadius, 1, 7);
     s.read("subpixel_iterations", p.subpixelIterations, 1, 10);

@@ -65,10 +65,12 @@ cv::Mat CensusMatcher::compute(const cv::Mat& left, const cv::Mat& right, int ma
     cv::Mat disparity, rightDisparity;
     winnerTakesAll(scratch_, disparity, rightDisparity);
 
-    // 5. Outliers: left-right check (occluded or mismatched), region voting, interpolation.
+    // 5. Outliers: left-right check (occluded or mismatched), region voting, interpolation;
+    //    disparity edges moved to the side whose cost is lower.
     cv::Mat labels = leftRightCheck(disparity, rightDisparity, maxDisparity, p.lrMaxDifference);
     regionVoting(arms_, p, disparity, labels);
     interpolateOutliers(disparity, labels);
+    if (p.discontinuityAdjustment) adjustDiscontinuities(scratch_, disparity);
 
     // 6. Sub-pixel: fit on the aggregated cost, intensity refinement against pixel locking;
     //    Mei's final 3x3 median.

@@ -6,13 +6,16 @@
 // the tighter D_c(p1, p) < τ2 (long arms only in really flat areas). The support region of p is
 // the union of the horizontal arms of the pixels on its vertical arm; aggregation sums costs over
 // the horizontal arms first, then sums those along the vertical arm, and divides by the region's
-// pixel count. The horizontal pass keeps each pixel's horizontal mean and count, so the vertical
-// pass can weight means by counts and divide by the whole region exactly.
+// pixel count. As in Mei et al. 2011, iterations alternate the order: odd ones go vertical first
+// (the region is then the union of the vertical arms of the pixels on the horizontal arm), so
+// repeated passes do not favour one axis. The first pass keeps each pixel's mean and count, so the
+// second can weight means by counts and divide by the whole region exactly.
 //
 // Horizontal sums come from a per-row prefix sum (32-bit), vertical sums add the arm's rows;
 // both run over the padded disparity axis 8 lanes at a time.
 #include <algorithm>
 #include <cstdlib>
+#include <utility>
 
 #include <opencv2/core/hal/intrin.hpp>
 
@@ -120,19 +123,48 @@ void computeCrossArmsReference(const cv::Mat& bgr, const Parameters& parameters,
         }
 }
 
-void aggregateCross(const CrossArms& arms, int iterations, CostVolume& costs, CostVolume& scratch) {
-    const int width = costs.width, height = costs.height, stride = costs.stride;
-    scratch.create(width, height, costs.disparities);
-    for (int iteration = 0; iteration < iterations; ++iteration) {
-        // Horizontal pass, in place: each row's prefix sums are taken before the row is overwritten.
-        forEachStripe(height, [&](int, int begin, int end) {
-            std::vector<std::uint32_t> prefix(static_cast<std::size_t>(width + 1) * stride);
-            for (int y = begin; y < end; ++y) {
-                std::fill(prefix.begin(), prefix.begin() + stride, 0u);
-                for (int x = 0; x < width; ++x) {
-                    const std::uint16_t* c = costs.at(x, y);
-                    const std::uint32_t* before = prefix.data() + static_cast<std::size_t>(x) * stride;
-                    std::uint32_t* after = prefix.data() + static_cast<std::size_t>(x + 1) * stride;
+namespace {
+
+// The two pass orders. Horizontal-first: region = the horizontal arms of the pixels on p's
+// vertical arm; vertical-first: the vertical arms of the pixels on p's horizontal arm.
+bool horizontalFirst(int iteration) { return iteration % 2 == 0; }
+
+// Pixel count of each arm line (both arms + p), CV_16UC1: the weights of the second pass.
+cv::Mat lineCounts(const cv::Mat& a, const cv::Mat& b) {
+    cv::Mat counts(a.size(), CV_16UC1);
+    for (int y = 0; y < a.rows; ++y)
+        for (int x = 0; x < a.cols; ++x) {
+            counts.at<std::uint16_t>(y, x) =
+                static_cast<std::uint16_t>(a.at<std::uint8_t>(y, x) + b.at<std::uint8_t>(y, x) + 1);
+        }
+    return counts;
+}
+
+// Weighted mean along each pixel's horizontal arm, in place: out(p) = Σ w(q) c(q) / Σ w(q), q on
+// the arm; weights empty means 1. Per-row prefix sums (32-bit; differences of wrapped sums stay
+// exact as every window sum fits).
+void horizontalMeans(const CrossArms& arms, const cv::Mat& weights, CostVolume& costs) {
+    const int width = costs.width, stride = costs.stride;
+    forEachStripe(costs.height, [&](int, int begin, int end) {
+        std::vector<std::uint32_t> prefix(static_cast<std::size_t>(width + 1) * stride);
+        std::vector<std::uint32_t> weightPrefix(static_cast<std::size_t>(width + 1));
+        for (int y = begin; y < end; ++y) {
+            const std::uint16_t* w = weights.empty() ? nullptr : weights.ptr<std::uint16_t>(y);
+            std::fill(prefix.begin(), prefix.begin() + stride, 0u);
+            for (int x = 0; x < width; ++x) {
+                const std::uint16_t* c = costs.at(x, y);
+                const std::uint32_t* before = prefix.data() + static_cast<std::size_t>(x) * stride;
+                std::uint32_t* after = prefix.data() + static_cast<std::size_t>(x + 1) * stride;
+                weightPrefix[static_cast<std::size_t>(x) + 1] = weightPrefix[static_cast<std::size_t>(x)] + (w ? w[x] : 1u);
+                if (w) {
+                    const cv::v_uint16x8 weight = cv::v_setall_u16(w[x]);
+                    for (int d = 0; d < stride; d += kLanes) {
+                        cv::v_uint32x4 lo, hi;
+                        cv::v_mul_expand(cv::v_load(c + d), weight, lo, hi);
+                        cv::v_store(after + d, cv::v_load(before + d) + lo);
+                        cv::v_store(after + d + kLanes32, cv::v_load(before + d + kLanes32) + hi);
+                    }
+                } else {
                     for (int d = 0; d < stride; d += kLanes) {
                         cv::v_uint32x4 lo, hi;
                         cv::v_expand(cv::v_load(c + d), lo, hi);
@@ -140,51 +172,73 @@ void aggregateCross(const CrossArms& arms, int iterations, CostVolume& costs, Co
                         cv::v_store(after + d + kLanes32, cv::v_load(before + d + kLanes32) + hi);
                     }
                 }
-                const std::uint8_t* left = arms.left.ptr<std::uint8_t>(y);
-                const std::uint8_t* right = arms.right.ptr<std::uint8_t>(y);
-                for (int x = 0; x < width; ++x) {
-                    const std::uint32_t* a = prefix.data() + static_cast<std::size_t>(x - left[x]) * stride;
-                    const std::uint32_t* b = prefix.data() + static_cast<std::size_t>(x + right[x] + 1) * stride;
-                    const cv::v_float32x4 inverse = cv::v_setall_f32(1.0f / static_cast<float>(left[x] + right[x] + 1));
-                    std::uint16_t* out = costs.at(x, y);
-                    for (int d = 0; d < stride; d += kLanes) {
-                        const cv::v_uint32x4 lo = cv::v_load(b + d) - cv::v_load(a + d);
-                        const cv::v_uint32x4 hi = cv::v_load(b + d + kLanes32) - cv::v_load(a + d + kLanes32);
-                        cv::v_store(out + d, meanLanes(lo, hi, inverse));
-                    }
+            }
+            const std::uint8_t* left = arms.left.ptr<std::uint8_t>(y);
+            const std::uint8_t* right = arms.right.ptr<std::uint8_t>(y);
+            for (int x = 0; x < width; ++x) {
+                const auto x0 = static_cast<std::size_t>(x - left[x]), x1 = static_cast<std::size_t>(x + right[x] + 1);
+                const std::uint32_t* a = prefix.data() + x0 * stride;
+                const std::uint32_t* b = prefix.data() + x1 * stride;
+                const cv::v_float32x4 inverse =
+                    cv::v_setall_f32(1.0f / static_cast<float>(weightPrefix[x1] - weightPrefix[x0]));
+                std::uint16_t* out = costs.at(x, y);
+                for (int d = 0; d < stride; d += kLanes) {
+                    const cv::v_uint32x4 lo = cv::v_load(b + d) - cv::v_load(a + d);
+                    const cv::v_uint32x4 hi = cv::v_load(b + d + kLanes32) - cv::v_load(a + d + kLanes32);
+                    cv::v_store(out + d, meanLanes(lo, hi, inverse));
                 }
             }
-        });
-        // Vertical pass, costs -> scratch: region sum = sum over the vertical arm of count x mean.
-        forEachStripe(height, [&](int, int begin, int end) {
-            std::vector<std::uint32_t> acc(static_cast<std::size_t>(stride));
-            for (int y = begin; y < end; ++y) {
-                const std::uint8_t* up = arms.up.ptr<std::uint8_t>(y);
-                const std::uint8_t* down = arms.down.ptr<std::uint8_t>(y);
-                for (int x = 0; x < width; ++x) {
-                    std::fill(acc.begin(), acc.end(), 0u);
-                    int count = 0;
-                    for (int yy = y - up[x]; yy <= y + down[x]; ++yy) {
-                        const int n = arms.left.at<std::uint8_t>(yy, x) + arms.right.at<std::uint8_t>(yy, x) + 1;
-                        count += n;
-                        const cv::v_uint16x8 weight = cv::v_setall_u16(static_cast<std::uint16_t>(n));
-                        const std::uint16_t* c = costs.at(x, yy);
-                        for (int d = 0; d < stride; d += kLanes) {
-                            cv::v_uint32x4 lo, hi;
-                            cv::v_mul_expand(cv::v_load(c + d), weight, lo, hi);
-                            cv::v_store(acc.data() + d, cv::v_load(acc.data() + d) + lo);
-                            cv::v_store(acc.data() + d + kLanes32, cv::v_load(acc.data() + d + kLanes32) + hi);
-                        }
-                    }
-                    const cv::v_float32x4 inverse = cv::v_setall_f32(1.0f / static_cast<float>(count));
-                    std::uint16_t* out = scratch.at(x, y);
+        }
+    });
+}
+
+// Weighted mean along each pixel's vertical arm, costs -> out (weights empty means 1).
+void verticalMeans(const CrossArms& arms, const cv::Mat& weights, const CostVolume& costs, CostVolume& out) {
+    const int width = costs.width, stride = costs.stride;
+    forEachStripe(costs.height, [&](int, int begin, int end) {
+        std::vector<std::uint32_t> acc(static_cast<std::size_t>(stride));
+        for (int y = begin; y < end; ++y) {
+            const std::uint8_t* up = arms.up.ptr<std::uint8_t>(y);
+            const std::uint8_t* down = arms.down.ptr<std::uint8_t>(y);
+            for (int x = 0; x < width; ++x) {
+                std::fill(acc.begin(), acc.end(), 0u);
+                int count = 0;
+                for (int yy = y - up[x]; yy <= y + down[x]; ++yy) {
+                    const int n = weights.empty() ? 1 : weights.at<std::uint16_t>(yy, x);
+                    count += n;
+                    const cv::v_uint16x8 weight = cv::v_setall_u16(static_cast<std::uint16_t>(n));
+                    const std::uint16_t* c = costs.at(x, yy);
                     for (int d = 0; d < stride; d += kLanes) {
-                        cv::v_store(out + d, meanLanes(cv::v_load(acc.data() + d), cv::v_load(acc.data() + d + kLanes32),
-                                                       inverse));
+                        cv::v_uint32x4 lo, hi;
+                        cv::v_mul_expand(cv::v_load(c + d), weight, lo, hi);
+                        cv::v_store(acc.data() + d, cv::v_load(acc.data() + d) + lo);
+                        cv::v_store(acc.data() + d + kLanes32, cv::v_load(acc.data() + d + kLanes32) + hi);
                     }
                 }
+                const cv::v_float32x4 inverse = cv::v_setall_f32(1.0f / static_cast<float>(count));
+                std::uint16_t* o = out.at(x, y);
+                for (int d = 0; d < stride; d += kLanes) {
+                    cv::v_store(o + d, meanLanes(cv::v_load(acc.data() + d), cv::v_load(acc.data() + d + kLanes32), inverse));
+                }
             }
-        });
+        }
+    });
+}
+
+}  // namespace
+
+void aggregateCross(const CrossArms& arms, int iterations, CostVolume& costs, CostVolume& scratch) {
+    scratch.create(costs.width, costs.height, costs.disparities);
+    const cv::Mat horizontalCounts = lineCounts(arms.left, arms.right);
+    const cv::Mat verticalCounts = lineCounts(arms.up, arms.down);
+    for (int iteration = 0; iteration < iterations; ++iteration) {
+        if (horizontalFirst(iteration)) {
+            horizontalMeans(arms, cv::Mat(), costs);
+            verticalMeans(arms, horizontalCounts, costs, scratch);
+        } else {
+            verticalMeans(arms, cv::Mat(), costs, scratch);
+            horizontalMeans(arms, verticalCounts, scratch);
+        }
         std::swap(costs.data, scratch.data);
     }
     restorePadding(costs);
@@ -192,32 +246,42 @@ void aggregateCross(const CrossArms& arms, int iterations, CostVolume& costs, Co
 
 void aggregateCrossReference(const CrossArms& arms, int iterations, CostVolume& costs) {
     const int width = costs.width, height = costs.height;
-    CostVolume horizontal;
-    horizontal.create(width, height, costs.disparities);
+    CostVolume first;
+    first.create(width, height, costs.disparities);
+    // Arm extent of (x, y) along one axis: [x - a, x + b] or [y - a, y + b].
+    auto horizontalArm = [&](int x, int y) {
+        return std::pair<int, int>(x - arms.left.at<std::uint8_t>(y, x), x + arms.right.at<std::uint8_t>(y, x));
+    };
+    auto verticalArm = [&](int x, int y) {
+        return std::pair<int, int>(y - arms.up.at<std::uint8_t>(y, x), y + arms.down.at<std::uint8_t>(y, x));
+    };
     for (int iteration = 0; iteration < iterations; ++iteration) {
+        const bool hFirst = horizontalFirst(iteration);
+        // First pass: plain mean along the first axis' arm.
         for (int y = 0; y < height; ++y)
             for (int x = 0; x < width; ++x) {
-                const int l = arms.left.at<std::uint8_t>(y, x), r = arms.right.at<std::uint8_t>(y, x);
-                const float inverse = 1.0f / static_cast<float>(l + r + 1);
+                const auto [a, b] = hFirst ? horizontalArm(x, y) : verticalArm(x, y);
+                const float inverse = 1.0f / static_cast<float>(b - a + 1);
                 for (int d = 0; d < costs.stride; ++d) {
                     std::uint32_t sum = 0;
-                    for (int xx = x - l; xx <= x + r; ++xx) sum += costs.at(xx, y)[d];
-                    horizontal.at(x, y)[d] = roundedMean(sum, inverse);
+                    for (int t = a; t <= b; ++t) sum += hFirst ? costs.at(t, y)[d] : costs.at(x, t)[d];
+                    first.at(x, y)[d] = roundedMean(sum, inverse);
                 }
             }
+        // Second pass along the other axis: each first-pass mean weighted by its pixel count.
         for (int y = 0; y < height; ++y)
             for (int x = 0; x < width; ++x) {
-                int count = 0;
-                for (int yy = y - arms.up.at<std::uint8_t>(y, x); yy <= y + arms.down.at<std::uint8_t>(y, x); ++yy) {
-                    count += arms.left.at<std::uint8_t>(yy, x) + arms.right.at<std::uint8_t>(yy, x) + 1;
-                }
+                const auto [a, b] = hFirst ? verticalArm(x, y) : horizontalArm(x, y);
+                auto weight = [&](int t) {
+                    const auto [c0, c1] = hFirst ? horizontalArm(x, t) : verticalArm(t, y);
+                    return static_cast<std::uint32_t>(c1 - c0 + 1);
+                };
+                std::uint32_t count = 0;
+                for (int t = a; t <= b; ++t) count += weight(t);
                 const float inverse = 1.0f / static_cast<float>(count);
                 for (int d = 0; d < costs.stride; ++d) {
                     std::uint32_t sum = 0;
-                    for (int yy = y - arms.up.at<std::uint8_t>(y, x); yy <= y + arms.down.at<std::uint8_t>(y, x); ++yy) {
-                        const int n = arms.left.at<std::uint8_t>(yy, x) + arms.right.at<std::uint8_t>(yy, x) + 1;
-                        sum += static_cast<std::uint32_t>(n) * horizontal.at(x, yy)[d];
-                    }
+                    for (int t = a; t <= b; ++t) sum += weight(t) * (hFirst ? first.at(x, t)[d] : first.at(t, y)[d]);
                     costs.at(x, y)[d] = roundedMean(sum, inverse);
                 }
             }

@@ -1,6 +1,6 @@
 // Disparity refinement after the winner-take-all, following Mei et al. 2011 as the seed paper
 // does: left-right check, iterative region voting inside the cross support regions,
-// interpolation of what is left, sub-pixel refinement.
+// interpolation of what is left, depth-discontinuity adjustment, sub-pixel refinement.
 //
 // Sub-pixel, in two steps, because the ice volume is a mean of sub-pixel differences (see
 // docs/HBVCAM.md in the shared folder) and so systematic bias matters more than noise:
@@ -133,6 +133,41 @@ void interpolateOutliers(cv::Mat& disparity, cv::Mat& labels) {
             }
         }
     });
+}
+
+int adjustDiscontinuities(const CostVolume& costs, cv::Mat& disparity) {
+    CV_Assert(disparity.type() == CV_16SC1);
+    // Reads the map as it was, so the result does not depend on the visiting order.
+    const cv::Mat before = disparity.clone();
+    const int width = disparity.cols;
+    std::vector<int> changedPerStripe(kStripes, 0);
+    forEachStripe(disparity.rows, [&](int stripe, int begin, int end) {
+        for (int y = begin; y < end; ++y) {
+            const auto* d = before.ptr<std::int16_t>(y);
+            auto* out = disparity.ptr<std::int16_t>(y);
+            for (int x = 1; x + 1 < width; ++x) {
+                const int own = d[x];
+                if (own < 0) continue;
+                // On a disparity edge when either horizontal neighbour jumps by more than a pixel.
+                if (std::abs(d[x - 1] - own) <= 1 && std::abs(d[x + 1] - own) <= 1) continue;
+                const std::uint16_t* c = costs.at(x, y);
+                const int valid = std::min(costs.disparities, x + 1);
+                int best = own, bestCost = c[own];
+                for (const int candidate : {static_cast<int>(d[x - 1]), static_cast<int>(d[x + 1])}) {
+                    if (candidate < 0 || candidate >= valid || c[candidate] >= bestCost) continue;
+                    best = candidate;
+                    bestCost = c[candidate];
+                }
+                if (best != own) {
+                    out[x] = static_cast<std::int16_t>(best);
+                    ++changedPerStripe[static_cast<std::size_t>(stripe)];
+                }
+            }
+        }
+    });
+    int changed = 0;
+    for (int c : changedPerStripe) changed += c;
+    return changed;
 }
 
 float subpixelOffset(int costMinus, int cost, int costPlus) {

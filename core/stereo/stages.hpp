@@ -128,8 +128,9 @@ void adCensusCostReference(const CostInputs& left, const CostInputs& right, cons
 int colourDistance(const cv::Vec3b& a, const cv::Vec3b& b);
 void computeCrossArms(const cv::Mat& bgr, const Parameters& parameters, CrossArms& arms);
 void computeCrossArmsReference(const cv::Mat& bgr, const Parameters& parameters, CrossArms& arms);
-// `iterations` times: horizontal-arm sums, then the vertical-arm sum of those over the region,
-// divided by the region's pixel count. Result back in costs; scratch is a second volume.
+// `iterations` times, alternating the order (even iterations horizontal then vertical, odd ones
+// vertical then horizontal): arm sums along one axis, then the count-weighted sum of those along
+// the other, divided by the region's pixel count. Result back in costs; scratch is a second volume.
 void aggregateCross(const CrossArms& arms, int iterations, CostVolume& costs, CostVolume& scratch);
 void aggregateCrossReference(const CrossArms& arms, int iterations, CostVolume& costs);
 
@@ -168,6 +169,10 @@ int regionVoting(const CrossArms& arms, const Parameters& parameters, cv::Mat& d
 // Fills the remaining outliers along their row: occluded from the background (left) side,
 // mismatched with the smaller of the nearest reliable left and right disparities.
 void interpolateOutliers(cv::Mat& disparity, cv::Mat& labels);
+// Mei's depth-discontinuity adjustment: a pixel on a disparity edge (a horizontal neighbour more
+// than one pixel away) takes the disparity of the neighbour on either side whose aggregated cost
+// at this pixel is lower than its own. Returns how many pixels changed.
+int adjustDiscontinuities(const CostVolume& costs, cv::Mat& disparity);
 // Sub-pixel disparity from the aggregated costs around each integer disparity. CV_32FC1.
 cv::Mat subpixelRefine(const cv::Mat& disparity, const CostVolume& costs);
 // Removes what is left of pixel locking: Gauss-Newton steps of 1-D Lucas-Kanade on the grey

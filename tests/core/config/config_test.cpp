@@ -67,6 +67,7 @@ TEST(Config, ShippedFileDocumentsTheDefaults) {
     EXPECT_EQ(a.votingIterations, b.votingIterations);
     EXPECT_EQ(a.votingMinCount, b.votingMinCount);
     EXPECT_EQ(a.votingMinRatio, b.votingMinRatio);
+    EXPECT_EQ(a.discontinuityAdjustment, b.discontinuityAdjustment);
     EXPECT_EQ(a.subpixelIntensityRefinement, b.subpixelIntensityRefinement);
     EXPECT_EQ(a.subpixelWindowRadius, b.subpixelWindowRadius);
     EXPECT_EQ(a.subpixelIterations, b.subpixelIterations);

@@ -92,6 +92,32 @@ TEST(Interpolation, OccludedFromTheLeftMismatchedTheSmaller) {
     EXPECT_EQ(border.at<std::int16_t>(0, 0), 4);
 }
 
+TEST(DiscontinuityAdjustment, EdgePixelTakesTheCheaperSide) {
+    // Row 2 ... 2 8 ... 8: pixels 9 and 10 sit on the edge. At pixel 9 the cost of 8 is lower
+    // than that of its own 2, so it moves; at pixel 10 its own 8 is cheapest, so it stays.
+    CostVolume v;
+    v.create(12, 1, 10);
+    std::fill(v.data.begin(), v.data.end(), 100);
+    v.at(9, 0)[2] = 50;
+    v.at(9, 0)[8] = 40;
+    v.at(10, 0)[8] = 30;
+    v.at(10, 0)[2] = 60;
+    cv::Mat disparity = row16({2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 8, 8});
+    EXPECT_EQ(adjustDiscontinuities(v, disparity), 1);
+    EXPECT_EQ(disparity.at<std::int16_t>(0, 9), 8);
+    EXPECT_EQ(disparity.at<std::int16_t>(0, 10), 8);
+    // A disparity the pixel cannot have (its right pixel would lie left of the image) is no
+    // candidate, however cheap.
+    cv::Mat border = row16({2, 2, 8, 8, 8, 8, 8, 8, 8, 8, 8, 8});
+    v.at(1, 0)[2] = 50;
+    v.at(1, 0)[8] = 0;
+    EXPECT_EQ(adjustDiscontinuities(v, border), 0);
+    // A smooth row (steps of one pixel) is not an edge and is left alone.
+    cv::Mat smooth = row16({0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 9, 9});
+    v.at(5, 0)[0] = 0;
+    EXPECT_EQ(adjustDiscontinuities(v, smooth), 0);
+}
+
 TEST(Subpixel, EquiangularFit) {
     EXPECT_FLOAT_EQ(subpixelOffset(10, 0, 10), 0.0f);
     // A V of slope 20 with its apex at +0.25: costs 25, 5, 15.
