@@ -65,6 +65,10 @@ void readVolume(Section s, volume::Parameters& v) {
     s.read("icp_convergence_mm", v.icpConvergenceMm, 1e-6, 10.0);
     s.read("icp_sample_step", v.icpSampleStep, 1, 16);
     s.read("icp_trim_sigma", v.icpTrimSigma, 1.0, 20.0);
+    s.read("icp_settled_mm", v.icpSettledMm, 1e-6, 10.0);
+    s.read("texture_inlier_mm", v.textureInlierMm, 0.01, 100.0);
+    s.read("min_texture_inliers", v.minTextureInliers, 6, 100000);
+    s.read("texture_support_px", v.textureSupportPx, 1, 500);
     s.read("change_threshold_mm", v.changeThresholdMm, 0.01, 100.0);
     s.read("max_registration_mm", v.maxRegistrationMm, 0.1, 1000.0);
     s.read("max_registration_rms_mm", v.maxRegistrationRmsMm, 0.01, 100.0);

@@ -28,6 +28,7 @@
 #include "core/volume/outlier_filter.hpp"
 #include "core/volume/registration.hpp"
 #include "core/volume/roi.hpp"
+#include "core/volume/texture_registration.hpp"
 
 namespace icewatch::volume {
 
@@ -179,8 +180,8 @@ struct VolumeChain::Impl {
 
 namespace {
 
-stereo::Parameters matcherParameters() {
-    stereo::Parameters p;
+stereo::Parameters matcherParameters(const stereo::Parameters& configured) {
+    stereo::Parameters p = configured;
     // Filled holes are invented depth: a volume must be built from measurements only.
     p.sgbmFillHoles = false;
     return p;
@@ -188,13 +189,14 @@ stereo::Parameters matcherParameters() {
 
 }  // namespace
 
-VolumeChain::VolumeChain(const calib::StereoCalibration& calibration, const Parameters& parameters, Clock clock) {
+VolumeChain::VolumeChain(const calib::StereoCalibration& calibration, const Parameters& parameters, Clock clock,
+                         const stereo::Parameters& stereoParameters) {
     checkParameters(parameters);
     calib::StereoCalibration c = calibration;
     calib::validateCalibration(c, "calibration");
     if (c.Q.empty() || c.P1.empty()) calib::deriveRectification(c);
     impl_ = std::make_unique<Impl>(Impl{c, parameters, std::move(clock), calib::Rectifier(c),
-                                        stereo::Matcher(parameters.stereoMethod, matcherParameters()), {},
+                                        stereo::Matcher(parameters.stereoMethod, matcherParameters(stereoParameters)), {},
                                         cv::Matx34d(c.P1), c.rectifiedFocalPx(), c.baselineMm()});
     if (!parameters.roiPolygon.empty()) {
         impl_->polygonRoi = roiMaskFromPolygon(polygonFromFlat(parameters.roiPolygon), c);
@@ -293,11 +295,43 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
                 }
             }
     };
-    sampleCurrent(measured);  // the object moves a few pixels at most: a first fit from where it was
     const cv::Mat normals = organizedNormals(baseline.points, 3);
-    RegistrationOptions options{p.icpIterations, p.icpConvergenceMm, p.icpTrimSigma};
-    RegistrationResult registration =
-        registerPointToPlane(baseline.points, normals, measured, impl_->projection, samples, {}, {}, options);
+    cv::Mat textureSupport;  // current pixels near unchanged texture; empty when registered on shape alone
+    RegistrationOptions options{p.icpIterations, p.icpConvergenceMm, p.icpTrimSigma, p.icpSettledMm};
+    RegistrationResult registration;
+    // First from the texture of the unchanged parts, which pins the slide along the span and the
+    // turn about the normal that the shape leaves free; features are taken well inside the
+    // outline, away from the silhouette, where the background moves differently.
+    cv::Mat featureMask;
+    cv::erode(measured, featureMask, cv::getStructuringElement(cv::MORPH_ELLIPSE, {17, 17}));
+    TextureRegistrationOptions textureOptions;
+    textureOptions.inlierMm = p.textureInlierMm;
+    const TextureRegistrationResult texture = registerByTexture(baseline.rectifiedLeft, baseline.points,
+                                                                current.rectifiedLeft, current.points, featureMask, plane,
+                                                                textureOptions);
+    result.textureInliers = texture.inliers;
+    if (texture.ok && texture.inliers >= p.minTextureInliers) {
+        // The shape then fixes the out-of-plane motion, first only around the texture's inliers:
+        // ice changes the texture, so they lie on what did not change, whereas ice may cover more
+        // than half of a blade and would win any robust fit over the whole region.
+        textureSupport = cv::Mat::zeros(measured.size(), CV_8U);
+        for (const cv::Point2f& at : texture.inlierPixels) {
+            cv::circle(textureSupport, cv::Point(cvRound(at.x), cvRound(at.y)), p.textureSupportPx, cv::Scalar(255), cv::FILLED);
+        }
+        textureSupport &= measured;
+        sampleCurrent(textureSupport);
+        RegistrationOptions outOfPlane = options;
+        outOfPlane.outOfPlaneOnly = true;
+        outOfPlane.planeNormal = plane.normal;
+        outOfPlane.planeCentre = plane.origin;
+        registration = registerPointToPlane(baseline.points, normals, measured, impl_->projection, samples, {},
+                                            texture.transform, outOfPlane);
+    } else {
+        // No usable texture: the shape alone, from where the object was (it moves a few pixels).
+        sampleCurrent(measured);
+        registration = registerPointToPlane(baseline.points, normals, measured, impl_->projection, samples, {}, {},
+                                            options);
+    }
     // Again, from where the object now is and without the places that look changed: sky seen
     // where the object was, and ice, would otherwise pull the fit towards themselves.
     const cv::Mat currentOutline = outlineInCurrent(baseline.roi, plane, registration.transform, impl_->projection,
@@ -335,9 +369,18 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     for (std::size_t i = 0; i < samples.size(); ++i) {
         const double a = averaged.at<double>(samplePixels[i]);
         unchanged[i] = !std::isnan(a) && std::abs(a) < changeCut;
+        if (!textureSupport.empty()) {
+            unchanged[i] = unchanged[i] && textureSupport.at<std::uint8_t>(samplePixels[i] * step);
+        }
+    }
+    RegistrationOptions finalOptions = options;
+    if (texture.ok && texture.inliers >= p.minTextureInliers) {
+        finalOptions.outOfPlaneOnly = true;
+        finalOptions.planeNormal = plane.normal;
+        finalOptions.planeCentre = plane.origin;
     }
     registration = registerPointToPlane(baseline.points, normals, measured, impl_->projection, samples, unchanged,
-                                        registration.transform, options);
+                                        registration.transform, finalOptions);
     const RigidTransform& transform = registration.transform;
     result.registrationMm = cv::norm(transform.apply(plane.origin) - plane.origin);
     result.registrationDeg = std::acos(std::clamp((cv::trace(transform.rotation) - 1.0) / 2.0, -1.0, 1.0)) * 180.0 / kPi;

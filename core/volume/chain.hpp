@@ -11,6 +11,7 @@
 
 #include "core/calib/stereo_calibration.hpp"
 #include "core/common/side_by_side.hpp"
+#include "core/stereo/parameters.hpp"
 #include "core/volume/image_quality.hpp"
 #include "core/volume/parameters.hpp"
 
@@ -52,6 +53,7 @@ struct VolumeResult {
     double registrationMm = 0;   // how far the current capture moved the region's centre
     double registrationDeg = 0;  // and turned
     double registrationRmsMm = 0;
+    int textureInliers = 0;      // texture matches that agreed on the first rigid fit (0: shape only)
     Timings timingsMs;
 
     // For people: false-colour disparity (current), thickness map, current cloud in the
@@ -69,7 +71,9 @@ public:
     using Clock = std::function<std::chrono::steady_clock::time_point()>;
 
     // Throws Error(kExitConfig) on parameters it cannot use; `clock` times the stages (none: 0 ms).
-    VolumeChain(const calib::StereoCalibration& calibration, const Parameters& parameters, Clock clock = {});
+    // `stereoParameters`: the matcher's (the configuration's "stereo" section).
+    VolumeChain(const calib::StereoCalibration& calibration, const Parameters& parameters, Clock clock = {},
+                const stereo::Parameters& stereoParameters = {});
     ~VolumeChain();
     VolumeChain(VolumeChain&&) noexcept;
     VolumeChain& operator=(VolumeChain&&) noexcept;

@@ -30,6 +30,11 @@ struct Parameters {
     double icpConvergenceMm = 0.02;   // stop when an update moves the surface less than this
     int icpSampleStep = 2;            // use every n-th pixel in x and y
     double icpTrimSigma = 3.0;        // residuals beyond this many robust sigmas are left out
+    double icpSettledMm = 0.2;        // a fit whose last update moved less than this counts as converged
+                                      // (a weakly constrained direction may jitter by noise)
+    double textureInlierMm = 2.0;     // texture matches in the object plane: inlier distance of the in-plane fit
+    int minTextureInliers = 100;      // fewer: register on the shape alone (a few dozen matches fix a turn worse than shape)
+    int textureSupportPx = 20;        // the shape fit's out-of-plane motion uses points this near a texture inlier
     double changeThresholdMm = 0.8;   // locally averaged thickness above this = changed (ice), not used
                                       // to register
     double maxRegistrationMm = 30;    // a larger movement is refused (the camera or blade moved)

@@ -150,6 +150,39 @@ RegistrationResult registerPointToPlane(const cv::Mat& baselinePoints, const cv:
             result.iterations = iteration;
             return result;
         }
+        if (options.outOfPlaneOnly) {
+            // Tilts about the in-plane axes through the centre, and the normal translation.
+            const cv::Vec3d n = cv::normalize(options.planeNormal);
+            const cv::Vec3d u = cv::normalize(std::abs(n[0]) < 0.9 ? n.cross(cv::Vec3d(1, 0, 0)) : n.cross(cv::Vec3d(0, 1, 0)));
+            const cv::Vec3d v = n.cross(u);
+            Eigen::Matrix<double, 6, 3> basis;
+            const cv::Vec3d tu = -u.cross(options.planeCentre), tv = -v.cross(options.planeCentre);
+            basis << u[0], v[0], 0, u[1], v[1], 0, u[2], v[2], 0, tu[0], tv[0], n[0], tu[1], tv[1], n[1], tu[2], tv[2],
+                n[2];
+            const Eigen::Matrix3d reduced = basis.transpose() * a * basis;
+            const Eigen::Matrix3d reducedInverse = reduced.inverse();
+            if (!reducedInverse.allFinite()) {
+                result.converged = false;
+                result.iterations = iteration;
+                return result;
+            }
+            const Eigen::Matrix<double, 6, 1> delta = -basis * (reducedInverse * (basis.transpose() * b));
+            lastInverse = basis * reducedInverse * basis.transpose() *
+                          (weightSum > 0 ? static_cast<double>(inliers) / weightSum : 1.0);
+            const cv::Matx33d dr = rotationFromVector(delta.head<3>());
+            result.transform.rotation = dr * result.transform.rotation;
+            result.transform.translation = dr * result.transform.translation + cv::Vec3d(delta(3), delta(4), delta(5));
+            result.inliers = inliers;
+            result.iterations = iteration + 1;
+            const double depth = std::abs(pairs.front().p[2]);
+            const double step = delta.tail<3>().norm() + delta.head<3>().norm() * depth;
+            if (step < options.convergenceMm) {
+                result.converged = true;
+                break;
+            }
+            if (iteration + 1 == options.iterations) result.converged = step < options.settledMm;
+            continue;
+        }
         // Directions the surface does not constrain (sliding over a plate, turning about its
         // normal, sliding along an extruded blade) are left out of the update: their eigenvalues
         // are noise. Rotations are scaled by the depth first so all six are in millimetres.
@@ -184,6 +217,9 @@ RegistrationResult registerPointToPlane(const cv::Mat& baselinePoints, const cv:
             result.converged = true;
             break;
         }
+        // Out of iterations: a fit that still moves by a little only jitters in a direction the
+        // surface barely constrains, which changes no thickness; a large last step is a real failure.
+        if (iteration + 1 == options.iterations) result.converged = step < options.settledMm;
     }
     result.sigmaMm = scale;
     const Eigen::Matrix<double, 6, 6> covariance = scale * scale * lastInverse;

@@ -16,6 +16,13 @@ struct RegistrationOptions {
     int iterations = 50;
     double convergenceMm = 0.02;
     double trimSigma = 3.0;
+    double settledMm = 0.2;  // after all iterations, a last update below this still counts as converged
+    // When set, only the motions out of the plane with this normal through this centre are
+    // estimated (tilts about the in-plane axes, translation along the normal); the in-plane ones
+    // stay as `initial` has them (e.g. from the texture, which pins them far better than shape).
+    bool outOfPlaneOnly = false;
+    cv::Vec3d planeNormal{0, 0, 1};
+    cv::Vec3d planeCentre{0, 0, 0};
 };
 
 struct RegistrationResult {

@@ -43,13 +43,14 @@ void addVolumeCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunctio
         ->required();
     cmd->add_option("--method", o->method, "integration: trapz (default) or sum")->check(CLI::IsMember({"trapz", "sum"}));
     cmd->add_option("--stereo-method", o->stereoMethod, "matcher: paper, adcensus or sgbm (default: configuration)");
-    cmd->add_option("--config", o->config, "configuration file whose \"volume\" section to use");
+    cmd->add_option("--config", o->config, "configuration file whose \"volume\" and \"stereo\" sections to use");
     cmd->add_option("--debug-dir", o->debugDir, "write disparity.png, thickness.png and cloud.ply here");
     cmd->add_flag("--json", o->json, "print the result as one JSON object");
     cmd->callback([&run, o] {
         run = [o] {
-            volume::Parameters parameters = o->config.empty() ? volume::Parameters{}
-                                                              : config::loadConfig(o->config).volume;
+            config::Config configuration;
+            if (!o->config.empty()) configuration = config::loadConfig(o->config);
+            volume::Parameters parameters = configuration.volume;
             if (!o->method.empty()) {
                 parameters.integration = o->method == "sum" ? volume::Integration::Sum : volume::Integration::Trapz;
             }
@@ -68,7 +69,8 @@ void addVolumeCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunctio
                     parameters.roiPolygon.push_back(p.y);
                 }
             }
-            volume::VolumeChain chain(scene.calibration, parameters, [] { return std::chrono::steady_clock::now(); });
+            volume::VolumeChain chain(scene.calibration, parameters, [] { return std::chrono::steady_clock::now(); },
+                                      configuration.stereo);
             const volume::Surface baseline = chain.measureSurface(scene.before);
             const volume::Surface current = chain.measureSurface(scene.after);
             const volume::VolumeResult r = chain.estimate(baseline, current);
@@ -92,6 +94,7 @@ void addVolumeCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunctio
                                {"registration_mm", r.registrationMm},
                                {"registration_deg", r.registrationDeg},
                                {"registration_rms_mm", r.registrationRmsMm},
+                               {"texture_inliers", r.textureInliers},
                                {"timings_ms", timings}};
             if (r.ok) {
                 out["volume_mm3"] = r.volumeMm3;
