@@ -150,6 +150,7 @@ RegistrationResult registerPointToPlane(const cv::Mat& baselinePoints, const cv:
             result.iterations = iteration;
             return result;
         }
+        Eigen::Matrix<double, 6, 1> delta;
         if (options.outOfPlaneOnly) {
             // Tilts about the in-plane axes through the centre, and the normal translation.
             const cv::Vec3d n = cv::normalize(options.planeNormal);
@@ -166,45 +167,33 @@ RegistrationResult registerPointToPlane(const cv::Mat& baselinePoints, const cv:
                 result.iterations = iteration;
                 return result;
             }
-            const Eigen::Matrix<double, 6, 1> delta = -basis * (reducedInverse * (basis.transpose() * b));
+            delta = -basis * (reducedInverse * (basis.transpose() * b));
             lastInverse = basis * reducedInverse * basis.transpose() *
                           (weightSum > 0 ? static_cast<double>(inliers) / weightSum : 1.0);
-            const cv::Matx33d dr = rotationFromVector(delta.head<3>());
-            result.transform.rotation = dr * result.transform.rotation;
-            result.transform.translation = dr * result.transform.translation + cv::Vec3d(delta(3), delta(4), delta(5));
-            result.inliers = inliers;
-            result.iterations = iteration + 1;
-            const double depth = std::abs(pairs.front().p[2]);
-            const double step = delta.tail<3>().norm() + delta.head<3>().norm() * depth;
-            if (step < options.convergenceMm) {
-                result.converged = true;
-                break;
+        } else {
+            // Directions the surface does not constrain (sliding over a plate, turning about its
+            // normal, sliding along an extruded blade) are left out of the update: their eigenvalues
+            // are noise. Rotations are scaled by the depth first so all six are in millimetres.
+            const double depthScale = std::max(1.0, std::abs(pairs.front().p[2]));
+            Eigen::Matrix<double, 6, 1> unitScale;
+            unitScale << 1.0 / depthScale, 1.0 / depthScale, 1.0 / depthScale, 1.0, 1.0, 1.0;
+            const Eigen::Matrix<double, 6, 6> scaledA = unitScale.asDiagonal() * a * unitScale.asDiagonal();
+            const Eigen::Matrix<double, 6, 1> scaledB = unitScale.asDiagonal() * b;
+            const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eigen(scaledA);
+            const double largest = eigen.eigenvalues().maxCoeff();
+            Eigen::Matrix<double, 6, 1> scaledDelta = Eigen::Matrix<double, 6, 1>::Zero();
+            Eigen::Matrix<double, 6, 6> scaledInverse = Eigen::Matrix<double, 6, 6>::Zero();
+            for (int e = 0; e < 6; ++e) {
+                const double lambda = eigen.eigenvalues()(e);
+                if (lambda <= kDegenerateRatio * largest) continue;
+                const Eigen::Matrix<double, 6, 1> v = eigen.eigenvectors().col(e);
+                scaledDelta -= v * (v.dot(scaledB) / lambda);
+                scaledInverse += v * v.transpose() / lambda;
             }
-            if (iteration + 1 == options.iterations) result.converged = step < options.settledMm;
-            continue;
+            delta = unitScale.asDiagonal() * scaledDelta;
+            lastInverse = unitScale.asDiagonal() * scaledInverse * unitScale.asDiagonal() *
+                          (weightSum > 0 ? static_cast<double>(inliers) / weightSum : 1.0);
         }
-        // Directions the surface does not constrain (sliding over a plate, turning about its
-        // normal, sliding along an extruded blade) are left out of the update: their eigenvalues
-        // are noise. Rotations are scaled by the depth first so all six are in millimetres.
-        const double depthScale = std::max(1.0, std::abs(pairs.front().p[2]));
-        Eigen::Matrix<double, 6, 1> unitScale;
-        unitScale << 1.0 / depthScale, 1.0 / depthScale, 1.0 / depthScale, 1.0, 1.0, 1.0;
-        const Eigen::Matrix<double, 6, 6> scaledA = unitScale.asDiagonal() * a * unitScale.asDiagonal();
-        const Eigen::Matrix<double, 6, 1> scaledB = unitScale.asDiagonal() * b;
-        const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eigen(scaledA);
-        const double largest = eigen.eigenvalues().maxCoeff();
-        Eigen::Matrix<double, 6, 1> scaledDelta = Eigen::Matrix<double, 6, 1>::Zero();
-        Eigen::Matrix<double, 6, 6> scaledInverse = Eigen::Matrix<double, 6, 6>::Zero();
-        for (int e = 0; e < 6; ++e) {
-            const double lambda = eigen.eigenvalues()(e);
-            if (lambda <= kDegenerateRatio * largest) continue;
-            const Eigen::Matrix<double, 6, 1> v = eigen.eigenvectors().col(e);
-            scaledDelta -= v * (v.dot(scaledB) / lambda);
-            scaledInverse += v * v.transpose() / lambda;
-        }
-        const Eigen::Matrix<double, 6, 1> delta = unitScale.asDiagonal() * scaledDelta;
-        lastInverse = unitScale.asDiagonal() * scaledInverse * unitScale.asDiagonal() *
-                      (weightSum > 0 ? static_cast<double>(inliers) / weightSum : 1.0);
         const cv::Matx33d dr = rotationFromVector(delta.head<3>());
         result.transform.rotation = dr * result.transform.rotation;
         result.transform.translation = dr * result.transform.translation + cv::Vec3d(delta(3), delta(4), delta(5));
