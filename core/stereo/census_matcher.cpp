@@ -15,8 +15,7 @@ CensusMatcher::CensusMatcher(Method method, const Parameters& parameters)
 
 cv::Mat CensusMatcher::compute(const cv::Mat& left, const cv::Mat& right, int maxDisparity) {
     const Parameters& p = parameters_;
-    // 0. Colour and grey versions of both eyes (grey input is matched as colour with R = G = B);
-    //    impulse noise repaired.
+    // 0. Colour and grey versions of both eyes (grey input is matched as colour with R = G = B).
     cv::Mat bgrLeft = left, bgrRight = right, greyLeft = left, greyRight = right;
     if (left.channels() == 1) {
         cv::cvtColor(left, bgrLeft, cv::COLOR_GRAY2BGR);
@@ -31,48 +30,60 @@ cv::Mat CensusMatcher::compute(const cv::Mat& left, const cv::Mat& right, int ma
         bgrRight = bgrRight.clone();
         greyLeft = greyLeft.clone();
         greyRight = greyRight.clone();
-        removeImpulses(bgrLeft, greyLeft, p.impulseThreshold);
-        removeImpulses(bgrRight, greyRight, p.impulseThreshold);
     }
     costs_.create(left.cols, left.rows, maxDisparity);
 
-    // 1. Matching cost per pixel and disparity.
+    // 1. Per eye: impulse repair, then what the matching cost needs of the image. The two eyes are
+    //    independent, so they run as two tasks side by side (the stages inside run serially then;
+    //    their results do not depend on it).
     CostInputs leftInputs{bgrLeft, {}, {}, &leftCensus_};
     CostInputs rightInputs{bgrRight, {}, {}, &rightCensus_};
+    auto prepareEye = [&](bool isLeft) {
+        cv::Mat& bgr = isLeft ? bgrLeft : bgrRight;
+        cv::Mat& grey = isLeft ? greyLeft : greyRight;
+        CostInputs& inputs = isLeft ? leftInputs : rightInputs;
+        CensusImage& census = isLeft ? leftCensus_ : rightCensus_;
+        if (p.impulseThreshold > 0) removeImpulses(bgr, grey, p.impulseThreshold);
+        if (method_ == Method::Paper) {
+            // Improved Census: window by gradient (left only: the left pixel decides, the right
+            // image carries both codes), edge and corner bits; the gradient term's magnitudes.
+            if (isLeft) inputs.windowMask = censusWindowMask(grey, p.censusGradientThreshold);
+            improvedCensus(grey, edgeCornerBits(grey, p), p.censusAlpha, inputs.windowMask, census);
+            inputs.gradient = channelGradientMagnitudes(bgr);
+        } else {
+            meiCensus(grey, census);
+        }
+    };
+    cv::parallel_for_(cv::Range(0, 2), [&](const cv::Range& r) {
+        for (int eye = r.start; eye < r.end; ++eye) prepareEye(eye == 0);
+    }, 2);
+
+    // 2. Matching cost per pixel and disparity.
     if (method_ == Method::Paper) {
-        // Improved Census: window by gradient (left only: the left pixel decides, the right
-        // image carries both codes), edge and corner bits, then AD and gradient terms.
-        leftInputs.windowMask = censusWindowMask(greyLeft, p.censusGradientThreshold);
-        improvedCensus(greyLeft, edgeCornerBits(greyLeft, p), p.censusAlpha, leftInputs.windowMask, leftCensus_);
-        improvedCensus(greyRight, edgeCornerBits(greyRight, p), p.censusAlpha, cv::Mat(), rightCensus_);
-        leftInputs.gradient = channelGradientMagnitudes(bgrLeft);
-        rightInputs.gradient = channelGradientMagnitudes(bgrRight);
         paperCost(leftInputs, rightInputs, p, costs_);
     } else {
-        meiCensus(greyLeft, leftCensus_);
-        meiCensus(greyRight, rightCensus_);
         adCensusCost(leftInputs, rightInputs, p, costs_);
     }
 
-    // 2. Cross-based support regions of the left image; aggregation over them.
+    // 3. Cross-based support regions of the left image; aggregation over them.
     computeCrossArms(bgrLeft, p, arms_);
     aggregateCross(arms_, p.crossIterations, costs_, scratch_);
 
-    // 3. Scanline optimisation along 8 directions, summed into the second volume.
+    // 4. Scanline optimisation along 8 directions, summed into the second volume.
     aggregateScanlines(costs_, bgrLeft, scanlinePenalties(p), scratch_);
 
-    // 4. Winner-take-all, left and right views.
+    // 5. Winner-take-all, left and right views.
     cv::Mat disparity, rightDisparity;
     winnerTakesAll(scratch_, disparity, rightDisparity);
 
-    // 5. Outliers: left-right check (occluded or mismatched), region voting, interpolation;
+    // 6. Outliers: left-right check (occluded or mismatched), region voting, interpolation;
     //    disparity edges moved to the side whose cost is lower.
     cv::Mat labels = leftRightCheck(disparity, rightDisparity, maxDisparity, p.lrMaxDifference);
     regionVoting(arms_, p, disparity, labels);
     interpolateOutliers(disparity, labels);
     if (p.discontinuityAdjustment) adjustDiscontinuities(scratch_, disparity);
 
-    // 6. Sub-pixel: fit on the aggregated cost, intensity refinement against pixel locking;
+    // 7. Sub-pixel: fit on the aggregated cost, intensity refinement against pixel locking;
     //    Mei's final 3x3 median.
     cv::Mat refined = subpixelRefine(disparity, scratch_);
     if (p.subpixelIntensityRefinement) {

@@ -11,7 +11,7 @@
 // repeated passes do not favour one axis. The first pass keeps each pixel's mean and count, so the
 // second can weight means by counts and divide by the whole region exactly.
 //
-// Horizontal sums come from a per-row prefix sum (32-bit), vertical sums add the arm's rows;
+// Horizontal sums come from a per-row prefix sum, vertical sums from a per-column one (32-bit);
 // both run over the padded disparity axis 8 lanes at a time.
 #include <algorithm>
 #include <cstdlib>
@@ -146,8 +146,11 @@ cv::Mat lineCounts(const cv::Mat& a, const cv::Mat& b) {
 void horizontalMeans(const CrossArms& arms, const cv::Mat& weights, CostVolume& costs) {
     const int width = costs.width, stride = costs.stride;
     forEachStripe(costs.height, [&](int, int begin, int end) {
-        std::vector<std::uint32_t> prefix(static_cast<std::size_t>(width + 1) * stride);
-        std::vector<std::uint32_t> weightPrefix(static_cast<std::size_t>(width + 1));
+        // Per thread, grown once for the largest image (no allocation per pair).
+        thread_local std::vector<std::uint32_t> prefix, weightPrefix;
+        prefix.resize(static_cast<std::size_t>(width + 1) * stride);
+        weightPrefix.resize(static_cast<std::size_t>(width + 1));
+        weightPrefix[0] = 0;
         for (int y = begin; y < end; ++y) {
             const std::uint16_t* w = weights.empty() ? nullptr : weights.ptr<std::uint16_t>(y);
             std::fill(prefix.begin(), prefix.begin() + stride, 0u);
@@ -192,33 +195,46 @@ void horizontalMeans(const CrossArms& arms, const cv::Mat& weights, CostVolume& 
     });
 }
 
-// Weighted mean along each pixel's vertical arm, costs -> out (weights empty means 1).
+// Weighted mean along each pixel's vertical arm, costs -> out (weights empty means 1). Per column
+// a prefix sum over the rows (32-bit, wrapping like the horizontal one), so each pixel costs one
+// difference whatever its arm length; columns are split over stripes.
 void verticalMeans(const CrossArms& arms, const cv::Mat& weights, const CostVolume& costs, CostVolume& out) {
-    const int width = costs.width, stride = costs.stride;
-    forEachStripe(costs.height, [&](int, int begin, int end) {
-        std::vector<std::uint32_t> acc(static_cast<std::size_t>(stride));
-        for (int y = begin; y < end; ++y) {
-            const std::uint8_t* up = arms.up.ptr<std::uint8_t>(y);
-            const std::uint8_t* down = arms.down.ptr<std::uint8_t>(y);
-            for (int x = 0; x < width; ++x) {
-                std::fill(acc.begin(), acc.end(), 0u);
-                int count = 0;
-                for (int yy = y - up[x]; yy <= y + down[x]; ++yy) {
-                    const int n = weights.empty() ? 1 : weights.at<std::uint16_t>(yy, x);
-                    count += n;
-                    const cv::v_uint16x8 weight = cv::v_setall_u16(static_cast<std::uint16_t>(n));
-                    const std::uint16_t* c = costs.at(x, yy);
-                    for (int d = 0; d < stride; d += kLanes) {
-                        cv::v_uint32x4 lo, hi;
-                        cv::v_mul_expand(cv::v_load(c + d), weight, lo, hi);
-                        cv::v_store(acc.data() + d, cv::v_load(acc.data() + d) + lo);
-                        cv::v_store(acc.data() + d + kLanes32, cv::v_load(acc.data() + d + kLanes32) + hi);
-                    }
+    const int width = costs.width, height = costs.height, stride = costs.stride;
+    forEachStripe(width, [&](int, int begin, int end) {
+        thread_local std::vector<std::uint32_t> columnPrefix, columnWeightPrefix;
+        std::vector<std::uint32_t>& prefix = columnPrefix;
+        std::vector<std::uint32_t>& weightPrefix = columnWeightPrefix;
+        prefix.resize(static_cast<std::size_t>(height + 1) * stride);
+        weightPrefix.resize(static_cast<std::size_t>(height + 1));
+        for (int x = begin; x < end; ++x) {
+            std::fill(prefix.begin(), prefix.begin() + stride, 0u);
+            weightPrefix[0] = 0;
+            for (int y = 0; y < height; ++y) {
+                const std::uint16_t n = weights.empty() ? std::uint16_t{1} : weights.at<std::uint16_t>(y, x);
+                weightPrefix[static_cast<std::size_t>(y) + 1] = weightPrefix[static_cast<std::size_t>(y)] + n;
+                const cv::v_uint16x8 weight = cv::v_setall_u16(n);
+                const std::uint16_t* c = costs.at(x, y);
+                const std::uint32_t* before = prefix.data() + static_cast<std::size_t>(y) * stride;
+                std::uint32_t* after = prefix.data() + static_cast<std::size_t>(y + 1) * stride;
+                for (int d = 0; d < stride; d += kLanes) {
+                    cv::v_uint32x4 lo, hi;
+                    cv::v_mul_expand(cv::v_load(c + d), weight, lo, hi);
+                    cv::v_store(after + d, cv::v_load(before + d) + lo);
+                    cv::v_store(after + d + kLanes32, cv::v_load(before + d + kLanes32) + hi);
                 }
-                const cv::v_float32x4 inverse = cv::v_setall_f32(1.0f / static_cast<float>(count));
+            }
+            for (int y = 0; y < height; ++y) {
+                const auto y0 = static_cast<std::size_t>(y - arms.up.at<std::uint8_t>(y, x));
+                const auto y1 = static_cast<std::size_t>(y + arms.down.at<std::uint8_t>(y, x) + 1);
+                const std::uint32_t* a = prefix.data() + y0 * stride;
+                const std::uint32_t* b = prefix.data() + y1 * stride;
+                const cv::v_float32x4 inverse =
+                    cv::v_setall_f32(1.0f / static_cast<float>(weightPrefix[y1] - weightPrefix[y0]));
                 std::uint16_t* o = out.at(x, y);
                 for (int d = 0; d < stride; d += kLanes) {
-                    cv::v_store(o + d, meanLanes(cv::v_load(acc.data() + d), cv::v_load(acc.data() + d + kLanes32), inverse));
+                    const cv::v_uint32x4 lo = cv::v_load(b + d) - cv::v_load(a + d);
+                    const cv::v_uint32x4 hi = cv::v_load(b + d + kLanes32) - cv::v_load(a + d + kLanes32);
+                    cv::v_store(o + d, meanLanes(lo, hi, inverse));
                 }
             }
         }
