@@ -13,7 +13,7 @@
 #include <algorithm>
 #include <bit>
 
-#include <opencv2/core/hal/intrin.hpp>
+#include "core/common/simd.hpp"
 #include <opencv2/imgproc.hpp>
 
 #include "core/stereo/stages.hpp"

@@ -13,7 +13,7 @@
 #include <cmath>
 #include <type_traits>
 
-#include <opencv2/core/hal/intrin.hpp>
+#include "core/common/simd.hpp"
 
 #include "core/stereo/stages.hpp"
 

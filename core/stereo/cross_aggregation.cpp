@@ -17,7 +17,7 @@
 #include <cstdlib>
 #include <utility>
 
-#include <opencv2/core/hal/intrin.hpp>
+#include "core/common/simd.hpp"
 
 #include "core/stereo/stages.hpp"
 

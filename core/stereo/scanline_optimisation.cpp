@@ -15,7 +15,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include <opencv2/core/hal/intrin.hpp>
+#include "core/common/simd.hpp"
 
 #include "core/stereo/stages.hpp"
 

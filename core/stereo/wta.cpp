@@ -9,7 +9,7 @@
 // right pixels x-d .. x-d-3, a reversed run).
 #include <algorithm>
 
-#include <opencv2/core/hal/intrin.hpp>
+#include "core/common/simd.hpp"
 
 #include "core/stereo/stages.hpp"
 
