@@ -59,6 +59,7 @@ struct CensusImage {
 // Arm lengths (pixels, not counting p itself) of each pixel's cross.
 struct CrossArms {
     cv::Mat left, right, up, down;  // CV_8UC1
+    cv::Mat planes[3];              // scratch of computeCrossArms: the colour planes with a border
 };
 
 // Runs fn(begin, end) over kStripes fixed slices of [0, count), in parallel.
