@@ -202,12 +202,32 @@ cv::Mat subpixelRefine(const cv::Mat& disparity, const CostVolume& costs) {
     return refined;
 }
 
+namespace {
+
+bool straddlesDepthEdge(const cv::Mat& disparity, int x, int y, int radius) {
+    const float centre = disparity.at<float>(y, x);
+    for (int dy = -radius; dy <= radius; ++dy) {
+        const float* row = disparity.ptr<float>(y + dy);
+        for (int dx = -radius; dx <= radius; ++dx) {
+            if (std::abs(row[x + dx] - centre) > 1.0f) return true;
+        }
+    }
+    return false;
+}
+
+}  // namespace
+
 void refineSubpixelByIntensity(const cv::Mat& greyLeft, const cv::Mat& greyRight, int radius, int iterations,
                                float maxChange, cv::Mat& disparity) {
     CV_Assert(greyLeft.type() == CV_32FC1 && greyRight.type() == CV_32FC1 && disparity.type() == CV_32FC1);
     const int width = greyLeft.cols, height = greyLeft.rows;
     const int side = 2 * radius + 1;
     const float count = static_cast<float>(side * side);
+    // The window must see one surface: where it straddles a depth edge (a disparity in it more
+    // than a pixel from the centre's) the SSD mixes the two surfaces' shifts and would drag the
+    // centre towards the other one, so the cost fit stands there. Read from a copy: the rows
+    // being refined are changing.
+    const cv::Mat fitted = disparity.clone();
     forEachStripe(height, [&](int, int begin, int end) {
         std::vector<float> leftValues(static_cast<std::size_t>(side * side));
         for (int y = begin; y < end; ++y) {
@@ -215,7 +235,7 @@ void refineSubpixelByIntensity(const cv::Mat& greyLeft, const cv::Mat& greyRight
             float* out = disparity.ptr<float>(y);
             for (int x = radius; x + radius < width; ++x) {
                 const float start = out[x];
-                if (start < 0.0f) continue;
+                if (start < 0.0f || straddlesDepthEdge(fitted, x, y, radius)) continue;
                 for (int dy = -radius, k = 0; dy <= radius; ++dy) {
                     const float* row = greyLeft.ptr<float>(y + dy);
                     for (int dx = -radius; dx <= radius; ++dx, ++k) {

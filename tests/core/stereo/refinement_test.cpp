@@ -4,6 +4,7 @@
 
 #include "core/stereo/matcher.hpp"
 #include "core/stereo/stages.hpp"
+#include "tests/core/stereo/stereo_test_images.hpp"
 
 namespace icewatch::stereo::detail {
 namespace {
@@ -136,6 +137,28 @@ TEST(Subpixel, EquiangularFit) {
     EXPECT_EQ(refined.at<float>(0, 0), kInvalidDisparity);
     EXPECT_FLOAT_EQ(refined.at<float>(0, 5), 2.25f);
     EXPECT_FLOAT_EQ(refined.at<float>(0, 1), 0.0f);  // d = 0 has no left neighbour: stays integer
+}
+
+TEST(Subpixel, IntensityRefinementStopsAtDepthEdges) {
+    // The right eye sees the texture 3.25 px to the left. The fitted map says 3 everywhere except
+    // a band of columns at 9 (a nearer object): pixels whose 5x5 window reaches into the band keep
+    // their fitted value, the others are refined to 3.25.
+    const cv::Mat texture = test::randomImage(80, 30, CV_8UC1, 5);
+    cv::Mat right;
+    const cv::Mat shift = (cv::Mat_<double>(2, 3) << 1, 0, -3.25, 0, 1, 0);  // right(x) = left(x + 3.25)
+    cv::warpAffine(texture, right, shift, texture.size(), cv::INTER_LINEAR, cv::BORDER_REFLECT);
+    cv::Mat greyLeft, greyRight;
+    texture.convertTo(greyLeft, CV_32F);
+    right.convertTo(greyRight, CV_32F);
+    cv::Mat disparity(texture.size(), CV_32FC1, cv::Scalar(3.0f));
+    disparity.colRange(40, 44).setTo(9.0f);
+    refineSubpixelByIntensity(greyLeft, greyRight, 2, 4, 0.5f, disparity);
+    const int y = 15;
+    for (int x = 38; x <= 45; ++x) {
+        if (x >= 40 && x < 44) continue;
+        EXPECT_EQ(disparity.at<float>(y, x), 3.0f) << x;  // window straddles the edge
+    }
+    for (int x : {20, 30, 37, 46, 60}) EXPECT_NEAR(disparity.at<float>(y, x), 3.25f, 0.1f) << x;  // 8-bit images
 }
 
 TEST(ImpulseFilter, RepairsOnlyImpulses) {
