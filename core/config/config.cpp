@@ -95,6 +95,7 @@ void readVolume(Section s, volume::Parameters& v) {
 
 void readStereo(Section s, stereo::Parameters& p) {
     s.read("impulse_threshold", p.impulseThreshold, 0, 255);
+    s.read("noise_smoothing_gain", p.noiseSmoothingGain, 0.0, 10.0);
     s.read("census_gradient_threshold", p.censusGradientThreshold, 0.0, 1000.0);
     s.read("census_alpha", p.censusAlpha, 0, 64);
     s.read("canny_low_threshold", p.cannyLowThreshold, 0.0, 10000.0);
@@ -121,6 +122,7 @@ void readStereo(Section s, stereo::Parameters& p) {
     if (p.scanlinePi2 < p.scanlinePi1) s.fail("scanline_pi2", "must not be below scanline_pi1");
     s.read("scanline_tau", p.scanlineTau, 0, 255);
     s.read("lr_max_difference", p.lrMaxDifference, 0, 16);
+    s.read("right_view_aggregation", p.rightViewAggregation);
     s.read("voting_iterations", p.votingIterations, 0, 20);
     s.read("voting_min_count", p.votingMinCount, 0, 100000);
     s.read("voting_min_ratio", p.votingMinRatio, 0.0, 1.0);

@@ -24,7 +24,7 @@ cv::Mat CensusMatcher::compute(const cv::Mat& left, const cv::Mat& right, int ma
         cv::cvtColor(left, greyLeft, cv::COLOR_BGR2GRAY);
         cv::cvtColor(right, greyRight, cv::COLOR_BGR2GRAY);
     }
-    if (p.impulseThreshold > 0) {
+    if (p.impulseThreshold > 0 || p.noiseSmoothingGain > 0.0) {
         // Copies first: the caller's images are not ours to change.
         bgrLeft = bgrLeft.clone();
         bgrRight = bgrRight.clone();
@@ -33,9 +33,9 @@ cv::Mat CensusMatcher::compute(const cv::Mat& left, const cv::Mat& right, int ma
     }
     costs_.create(left.cols, left.rows, maxDisparity);
 
-    // 1. Per eye: impulse repair, then what the matching cost needs of the image. The two eyes are
-    //    independent, so they run as two tasks side by side (the stages inside run serially then;
-    //    their results do not depend on it).
+    // 1. Per eye: impulse repair and noise-adaptive smoothing, then what the matching cost needs of
+    //    the image. The two eyes are independent, so they run as two tasks side by side (the
+    //    stages inside run serially then; their results do not depend on it).
     CostInputs leftInputs{bgrLeft, {}, {}, &leftCensus_};
     CostInputs rightInputs{bgrRight, {}, {}, &rightCensus_};
     auto prepareEye = [&](bool isLeft) {
@@ -44,6 +44,8 @@ cv::Mat CensusMatcher::compute(const cv::Mat& left, const cv::Mat& right, int ma
         CostInputs& inputs = isLeft ? leftInputs : rightInputs;
         CensusImage& census = isLeft ? leftCensus_ : rightCensus_;
         if (p.impulseThreshold > 0) removeImpulses(bgr, grey, p.impulseThreshold);
+        smoothNoise(bgr, grey, p.noiseSmoothingGain);
+        inputs.bgr = bgr;
         if (method_ == Method::Paper) {
             // Improved Census: window by gradient (left only: the left pixel decides, the right
             // image carries both codes), edge and corner bits; the gradient term's magnitudes.
@@ -65,16 +67,33 @@ cv::Mat CensusMatcher::compute(const cv::Mat& left, const cv::Mat& right, int ma
         adCensusCost(leftInputs, rightInputs, p, costs_);
     }
 
-    // 3. Cross-based support regions of the left image; aggregation over them.
+    // 3. The right view, when it gets its own pass: its costs read off the left volume (mirrored,
+    //    so it is the left view of the mirrored pair), cross regions of the right image,
+    //    aggregation, scanlines and winner-take-all. Run first, so that the left view's
+    //    aggregated volume is the one left in scratch_ for the refinement.
+    cv::Mat rightDisparity;
+    const ScanlinePenalties penalties = scanlinePenalties(p);
+    if (p.rightViewAggregation) {
+        rightViewCosts(costs_, method_ == Method::Paper ? kPaperInvalidCost : kAdCensusInvalidCost, rightCosts_);
+        cv::Mat mirroredRight, mirroredDisparity, unused;
+        cv::flip(bgrRight, mirroredRight, 1);
+        computeCrossArms(mirroredRight, p, rightArms_);
+        aggregateCross(rightArms_, p.crossIterations, rightCosts_, scratch_);
+        aggregateScanlines(rightCosts_, mirroredRight, penalties, scratch_);
+        winnerTakesAll(scratch_, mirroredDisparity, unused);
+        cv::flip(mirroredDisparity, rightDisparity, 1);
+    }
+
+    // 4. Cross-based support regions of the left image; aggregation over them.
     computeCrossArms(bgrLeft, p, arms_);
     aggregateCross(arms_, p.crossIterations, costs_, scratch_);
 
-    // 4. Scanline optimisation along 8 directions, summed into the second volume.
-    aggregateScanlines(costs_, bgrLeft, scanlinePenalties(p), scratch_);
-
-    // 5. Winner-take-all, left and right views.
-    cv::Mat disparity, rightDisparity;
-    winnerTakesAll(scratch_, disparity, rightDisparity);
+    // 5. Scanline optimisation along 8 directions, summed into the second volume; winner-take-all
+    //    (the right view from the same volume's diagonals when it had no pass of its own).
+    aggregateScanlines(costs_, bgrLeft, penalties, scratch_);
+    cv::Mat disparity, diagonalRight;
+    winnerTakesAll(scratch_, disparity, diagonalRight);
+    if (!p.rightViewAggregation) rightDisparity = diagonalRight;
 
     // 6. Outliers: left-right check (occluded or mismatched), region voting, interpolation;
     //    disparity edges moved to the side whose cost is lower.

@@ -24,6 +24,8 @@ private:
     detail::CensusImage leftCensus_;
     detail::CensusImage rightCensus_;
     detail::CrossArms arms_;
+    detail::CostVolume rightCosts_;  // the right view's own pass (Parameters::rightViewAggregation)
+    detail::CrossArms rightArms_;
 };
 
 }  // namespace icewatch::stereo

@@ -49,7 +49,7 @@ struct PaperTerms {
           census9(robustTable(4 * 80 + 1, 1.0, p.lambdaCensus)),
           ad(robustTable(3 * 255 + 1, 1.0, p.lambdaAd)),                  // C_AD: sum over R, G, B
           gradient(robustTable(3 * 255 + 1, 1.0 / (3.0 * kGradientSteps), p.lambdaGradient)),  // mean over R, G, B
-          invalid(static_cast<std::uint16_t>(3 * kCostScale)) {}
+          invalid(kPaperInvalidCost) {}
 
     static constexpr bool kUsesGradient = true;
 
@@ -76,7 +76,7 @@ struct MeiTerms {
     explicit MeiTerms(const Parameters& p)
         : census(robustTable(65, 1.0, p.meiLambdaCensus)),
           ad(robustTable(3 * 255 + 1, 1.0 / 3.0, p.meiLambdaAd)),  // Mei: mean over R, G, B
-          invalid(static_cast<std::uint16_t>(2 * kCostScale)) {}
+          invalid(kAdCensusInvalidCost) {}
 
     static constexpr bool kUsesGradient = false;
 
@@ -209,6 +209,21 @@ void adCensusCost(const CostInputs& left, const CostInputs& right, const Paramet
 void adCensusCostReference(const CostInputs& left, const CostInputs& right, const Parameters& parameters,
                            CostVolume& out) {
     costReference(MeiTerms(parameters), left, right, out);
+}
+
+void rightViewCosts(const CostVolume& left, std::uint16_t invalid, CostVolume& mirroredRight) {
+    const int width = left.width, disparities = left.disparities;
+    mirroredRight.create(width, left.height, disparities);
+    forEachStripe(left.height, [&](int, int begin, int end) {
+        for (int y = begin; y < end; ++y)
+            for (int x = 0; x < width; ++x) {
+                std::uint16_t* cell = mirroredRight.at(width - 1 - x, y);
+                const int valid = std::min(disparities, width - x);  // left pixel x + d inside
+                for (int d = 0; d < valid; ++d) cell[d] = left.at(x + d, y)[d];
+                std::fill(cell + valid, cell + disparities, invalid);
+                std::fill(cell + disparities, cell + mirroredRight.stride, kPadCost);
+            }
+    });
 }
 
 }  // namespace icewatch::stereo::detail

@@ -80,6 +80,14 @@ void forEachStripe(int count, const F& fn) {
 // bgr CV_8UC3 and its grey version, both filtered in place. Returns the number replaced.
 int removeImpulses(cv::Mat& bgr, cv::Mat& grey, int threshold);
 
+// ---- noise_smoothing.cpp ------------------------------------------------------------------------
+// Sensor noise level of a grey image, grey levels (Immerkær's estimator over 8x8 blocks, 5th
+// percentile: about 3/4 of the noise's standard deviation).
+double estimateNoiseSigma(const cv::Mat& grey);
+// Blurs bgr (CV_8UC3) with a Gaussian of sigma = clamp(gain * (noise - 1), 0, 0.8) when that is
+// above 0.2 and recomputes grey from it; returns the sigma used (0: image left alone).
+double smoothNoise(cv::Mat& bgr, cv::Mat& grey, double gain);
+
 // ---- census.cpp -------------------------------------------------------------------------------
 // Improved Census (Paper): per neighbour a four-bit nibble [brighter, darker, edge, corner], 16
 // nibbles per word, neighbours in row-major window order without the centre. Words 0-2 hold the
@@ -123,6 +131,14 @@ void paperCostReference(const CostInputs& left, const CostInputs& right, const P
 void adCensusCost(const CostInputs& left, const CostInputs& right, const Parameters& parameters, CostVolume& out);
 void adCensusCostReference(const CostInputs& left, const CostInputs& right, const Parameters& parameters,
                            CostVolume& out);
+// Cost of a pair where neither pixel lies inside the other image (x - d < 0), per method.
+inline constexpr std::uint16_t kPaperInvalidCost = 3 * kCostScale;
+inline constexpr std::uint16_t kAdCensusInvalidCost = 2 * kCostScale;
+// The right view's matching costs from the left view's: right pixel x at disparity d is left pixel
+// x + d at d, the same pair. Stored mirrored (column W-1-x), so that the right view is the left
+// view of the mirrored pair and every later stage applies unchanged; pairs whose left pixel lies
+// outside the image (x + d >= W) cost `invalid`.
+void rightViewCosts(const CostVolume& left, std::uint16_t invalid, CostVolume& mirroredRight);
 
 // ---- cross_aggregation.cpp --------------------------------------------------------------------
 // D_c: the largest absolute difference over the colour channels.
