@@ -48,6 +48,13 @@ struct Parameters {
     double gridCellMm = 1.0;  // Δx = Δy target; N = extent / cell + 1, then Δ = extent / (N - 1)
     Integration integration = Integration::Trapz;
     double maxThicknessMm = 200;  // a current point farther in front of the baseline is not ice
+    // Occlusion steps (height_grid.hpp): a lattice triangle with an edge rising more than
+    // occlusionStepMm and more than occlusionSlope times its length in the plane bridges ground
+    // hidden behind a nearer surface; the far surface is continued under it instead of a ramp.
+    // 8 mm is several times the depth noise between neighbouring pixels at 0.85 m (~2 mm); a
+    // slope of 4 (76°) is steeper than any surface this camera measures head-on. 0: off.
+    double occlusionSlope = 4.0;
+    double occlusionStepMm = 8.0;
 
     // --- uncertainty ---
     double disparityNoisePx = 0.1;  // a-priori σ_d of one disparity (the data may show more)
