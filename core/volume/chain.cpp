@@ -396,6 +396,15 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
         return refused(result, "surfaces disagree after registration: residual " +
                                    std::to_string(registration.sigmaMm) + " mm");
     }
+    result.supportSpanPercent = supportSpanPercent(samples, unchanged, transform, plane);
+    if (result.supportSpanPercent < p.minSupportSpanPercent) {
+        std::ostringstream reason;
+        reason.precision(3);
+        reason << "the registration rests on unchanged surface spanning only " << result.supportSpanPercent
+               << " % of the object (min " << p.minSupportSpanPercent
+               << " %): its tilt would be extrapolated over the rest (ice hides the texture elsewhere)";
+        return refused(result, reason.str());
+    }
 
     // --- both clouds in plane coordinates; implausible current points out; k-NN filter ---
     const double behindMm = std::max(10.0, 6.0 * registration.sigmaMm);

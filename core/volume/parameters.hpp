@@ -39,6 +39,10 @@ struct Parameters {
                                       // to register
     double maxRegistrationMm = 30;    // a larger movement is refused (the camera or blade moved)
     double maxRegistrationRmsMm = 6;  // surfaces that do not agree better than this are refused
+    // The unchanged surface that fixed the registration must span at least this share of the
+    // object along both of its in-plane axes (tenths of its extent where the support holds a
+    // third of the samples), else the tilt is an extrapolation and the measurement is refused.
+    double minSupportSpanPercent = 50;
 
     // --- outlier filter (the seed paper, section 2.2) ---
     int knnK = 8;             // neighbours in the plane
