@@ -72,6 +72,7 @@ void readVolume(Section s, volume::Parameters& v) {
     s.read("change_threshold_mm", v.changeThresholdMm, 0.01, 100.0);
     s.read("max_registration_mm", v.maxRegistrationMm, 0.1, 1000.0);
     s.read("max_registration_rms_mm", v.maxRegistrationRmsMm, 0.01, 100.0);
+    s.read("min_support_span_percent", v.minSupportSpanPercent, 0.0, 100.0);
     s.read("knn_k", v.knnK, 2, 100);
     s.read("knn_theta", v.knnTheta, 0.1, 20.0);
     s.read("grid_cell_mm", v.gridCellMm, 0.05, 100.0);
@@ -79,6 +80,8 @@ void readVolume(Section s, volume::Parameters& v) {
     s.readChoice("integration", integration, {"trapz", "sum"});
     v.integration = integration == "sum" ? volume::Integration::Sum : volume::Integration::Trapz;
     s.read("max_thickness_mm", v.maxThicknessMm, 1.0, 2000.0);
+    s.read("occlusion_slope", v.occlusionSlope, 0.0, 1000.0);
+    s.read("occlusion_step_mm", v.occlusionStepMm, 0.0, 1000.0);
     s.read("disparity_noise_px", v.disparityNoisePx, 0.0, 10.0);
     s.read("correlation_px", v.correlationPx, 1, 64);
     s.read("subpixel_bias_px", v.subpixelBiasPx, 0.0, 1.0);

@@ -160,6 +160,7 @@ void checkParameters(const Parameters& p) {
     if (p.correlationPx < 1 || p.icpSampleStep < 1 || p.icpIterations < 1) {
         fail("correlation_px, icp_sample_step and icp_iterations must be positive");
     }
+    if (p.occlusionSlope < 0 || p.occlusionStepMm < 0) fail("occlusion_slope and occlusion_step_mm must not be negative");
     if (!p.roiPolygon.empty() && (p.roiPolygon.size() % 2 != 0 || p.roiPolygon.size() < 6)) {
         fail("roi_polygon needs x, y pairs for at least 3 points");
     }
@@ -395,6 +396,15 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
         return refused(result, "surfaces disagree after registration: residual " +
                                    std::to_string(registration.sigmaMm) + " mm");
     }
+    result.supportSpanPercent = supportSpanPercent(samples, unchanged, transform, plane);
+    if (result.supportSpanPercent < p.minSupportSpanPercent) {
+        std::ostringstream reason;
+        reason.precision(3);
+        reason << "the registration rests on unchanged surface spanning only " << result.supportSpanPercent
+               << " % of the object (min " << p.minSupportSpanPercent
+               << " %): its tilt would be extrapolated over the rest (ice hides the texture elsewhere)";
+        return refused(result, reason.str());
+    }
 
     // --- both clouds in plane coordinates; implausible current points out; k-NN filter ---
     const double behindMm = std::max(10.0, 6.0 * registration.sigmaMm);
@@ -455,8 +465,9 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
             vMax = std::max(vMax, local.y);
         }
     const GridSpec grid = makeGrid(uMin, uMax, vMin, vMax, p.gridCellMm);
-    cv::Mat baselineHeight = interpolateLattice(baselinePlane, grid);
-    const cv::Mat currentHeight = interpolateLattice(currentPlane, grid);
+    const StepOptions steps{p.occlusionSlope, p.occlusionStepMm};
+    cv::Mat baselineHeight = interpolateLattice(baselinePlane, grid, steps);
+    const cv::Mat currentHeight = interpolateLattice(currentPlane, grid, steps);
     // Which nodes lie inside the outline: project each node, at the baseline's height, into the
     // left image (the plane alone would misplace nodes by the blade's camber).
     cv::Mat everywhere(grid.nv, grid.nu, CV_8U, cv::Scalar(255));

@@ -54,6 +54,7 @@ struct VolumeResult {
     double registrationDeg = 0;  // and turned
     double registrationRmsMm = 0;
     int textureInliers = 0;      // texture matches that agreed on the first rigid fit (0: shape only)
+    double supportSpanPercent = 0;  // extent of the unchanged surface the registration rests on
     Timings timingsMs;
 
     // For people: false-colour disparity (current), thickness map, current cloud in the

@@ -61,7 +61,7 @@ GridSpec makeGrid(double uMin, double uMax, double vMin, double vMax, double cel
     return grid;
 }
 
-cv::Mat interpolateLattice(const cv::Mat& planePoints, const GridSpec& grid) {
+cv::Mat interpolateLattice(const cv::Mat& planePoints, const GridSpec& grid, const StepOptions& steps) {
     CV_Assert(planePoints.type() == CV_64FC3);
     // Noise moves points sideways as well as in depth, so neighbouring triangles can overlap a
     // little: a node covered twice gets the mean (taking the front one would bias upwards).
@@ -79,6 +79,13 @@ cv::Mat interpolateLattice(const cv::Mat& planePoints, const GridSpec& grid) {
         const int y0 = std::max(0, static_cast<int>(std::ceil(std::min({ay, by, cy}))));
         const int y1 = std::min(grid.nv - 1, static_cast<int>(std::floor(std::max({ay, by, cy}))));
         const double invArea = 1.0 / area;
+        // An occlusion step: the far (lowest) surface continues under the near one.
+        auto rises = [&steps](const cv::Vec3d& p, const cv::Vec3d& q) {
+            const double dh = std::abs(p[2] - q[2]);
+            return dh > steps.stepMinMm && dh > steps.stepSlope * std::hypot(p[0] - q[0], p[1] - q[1]);
+        };
+        const bool step = steps.stepSlope > 0 && (rises(a, b) || rises(b, c) || rises(a, c));
+        const double lowest = std::min({a[2], b[2], c[2]});
         constexpr double kEdge = -1e-9;  // nodes exactly on a shared edge belong to both
         for (int y = y0; y <= y1; ++y) {
             auto* sumRow = sum.ptr<double>(y);
@@ -88,7 +95,7 @@ cv::Mat interpolateLattice(const cv::Mat& planePoints, const GridSpec& grid) {
                 const double wb = ((cx - x) * (ay - y) - (ax - x) * (cy - y)) * invArea;
                 const double wc = 1.0 - wa - wb;
                 if (wa < kEdge || wb < kEdge || wc < kEdge) continue;
-                const double h = wa * a[2] + wb * b[2] + wc * c[2];
+                const double h = step ? lowest : wa * a[2] + wb * b[2] + wc * c[2];
                 sumRow[x] += h;
                 ++countRow[x];
             }

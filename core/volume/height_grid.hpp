@@ -41,7 +41,20 @@ GridSpec makeGrid(double uMin, double uMax, double vMin, double vMax, double cel
 // per 2×2 block, one when a corner is missing), which is the Delaunay triangulation of a lattice
 // and never bridges a hole; every grid node inside a triangle gets the barycentric blend of its
 // corners' h, the mean where noise makes triangles overlap. CV_64F Nv × Nu, NaN = not covered.
-cv::Mat interpolateLattice(const cv::Mat& planePoints, const GridSpec& grid);
+//
+// Occlusion steps: where a near surface hides part of a far one (the ground just around a block,
+// seen from above its top), neighbouring pixels on the two surfaces are far apart in height and
+// the triangle between them stands nearly along the line of sight. Interpolating across it would
+// build a ramp over ground that is not seen, as if the near surface sloped down to the far one;
+// the far surface goes on under the near one instead (the near surface ends in a wall at its own
+// edge, the only shape consistent with a surface hidden along the whole band). A triangle is a
+// step when one of its edges rises by more than `stepMinMm` and more than `stepSlope` times its
+// length in the plane; its nodes then take the lowest corner's h. stepSlope 0: no steps.
+struct StepOptions {
+    double stepSlope = 0;
+    double stepMinMm = 0;
+};
+cv::Mat interpolateLattice(const cv::Mat& planePoints, const GridSpec& grid, const StepOptions& steps = {});
 
 // Gives every NaN node with `inside` != 0 the value of its nearest non-NaN node. Returns how
 // many nodes were filled.

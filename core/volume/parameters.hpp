@@ -39,6 +39,10 @@ struct Parameters {
                                       // to register
     double maxRegistrationMm = 30;    // a larger movement is refused (the camera or blade moved)
     double maxRegistrationRmsMm = 6;  // surfaces that do not agree better than this are refused
+    // The unchanged surface that fixed the registration must span at least this share of the
+    // object along both of its in-plane axes (tenths of its extent where the support holds a
+    // third of the samples), else the tilt is an extrapolation and the measurement is refused.
+    double minSupportSpanPercent = 50;
 
     // --- outlier filter (the seed paper, section 2.2) ---
     int knnK = 8;             // neighbours in the plane
@@ -48,6 +52,13 @@ struct Parameters {
     double gridCellMm = 1.0;  // Δx = Δy target; N = extent / cell + 1, then Δ = extent / (N - 1)
     Integration integration = Integration::Trapz;
     double maxThicknessMm = 200;  // a current point farther in front of the baseline is not ice
+    // Occlusion steps (height_grid.hpp): a lattice triangle with an edge rising more than
+    // occlusionStepMm and more than occlusionSlope times its length in the plane bridges ground
+    // hidden behind a nearer surface; the far surface is continued under it instead of a ramp.
+    // 8 mm is several times the depth noise between neighbouring pixels at 0.85 m (~2 mm); a
+    // slope of 4 (76°) is steeper than any surface this camera measures head-on. 0: off.
+    double occlusionSlope = 4.0;
+    double occlusionStepMm = 8.0;
 
     // --- uncertainty ---
     double disparityNoisePx = 0.1;  // a-priori σ_d of one disparity (the data may show more)

@@ -95,6 +95,7 @@ void addVolumeCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunctio
                                {"registration_deg", r.registrationDeg},
                                {"registration_rms_mm", r.registrationRmsMm},
                                {"texture_inliers", r.textureInliers},
+                               {"registration_support_percent", r.supportSpanPercent},
                                {"timings_ms", timings}};
             if (r.ok) {
                 out["volume_mm3"] = r.volumeMm3;

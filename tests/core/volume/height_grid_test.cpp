@@ -75,6 +75,49 @@ TEST(HeightGrid, LinearInterpolationIsExactOnAPlaneAndLeavesHolesOpen) {
     EXPECT_GT(covered, grid.nu * grid.nv / 2);
 }
 
+// A block seen from above its centre hides a band of the ground around it: the pixel next to
+// the top's edge lands on the ground several millimetres further out. Rows of a lattice: ground
+// pixels up to u = 7, a hidden band 7..10, the top (50 mm) from 10 to 20, hidden again 20..23,
+// ground from 23.
+cv::Mat occludedBlockRows() {
+    std::vector<std::pair<double, double>> columns;  // u, h
+    for (int i = 0; i <= 7; ++i) columns.emplace_back(i, 0.0);
+    for (int i = 10; i <= 20; ++i) columns.emplace_back(i, 50.0);
+    for (int i = 23; i <= 30; ++i) columns.emplace_back(i, 0.0);
+    cv::Mat cloud(6, static_cast<int>(columns.size()), CV_64FC3);
+    for (int y = 0; y < cloud.rows; ++y)
+        for (int x = 0; x < cloud.cols; ++x) cloud.at<cv::Vec3d>(y, x) = {columns[x].first, double(y), columns[x].second};
+    return cloud;
+}
+
+TEST(HeightGrid, OcclusionStepsEndTheNearSurfaceInAWall) {
+    const cv::Mat cloud = occludedBlockRows();
+    const GridSpec grid = makeGrid(0, 30, 0, 5, 0.25);
+    const double block = 50.0 * 10.0 * 5.0;
+    const double ramps = 2 * 0.5 * 50.0 * 3.0 * 5.0;  // what bridging the hidden bands adds
+    const cv::Mat bridged = interpolateLattice(cloud, grid);
+    EXPECT_NEAR(integrate(bridged, grid, Integration::Trapz), block + ramps, 0.01 * block);
+    const cv::Mat walled = interpolateLattice(cloud, grid, {4.0, 8.0});
+    EXPECT_NEAR(integrate(walled, grid, Integration::Trapz), block, 0.02 * block);
+    EXPECT_DOUBLE_EQ(walled.at<double>(2, 4 * 8), 0.0);   // u = 8, inside the hidden band: ground
+    EXPECT_DOUBLE_EQ(walled.at<double>(2, 4 * 15), 50.0);  // the top is untouched
+}
+
+TEST(HeightGrid, SmallOrGentleRisesAreNotSteps) {
+    // A 5 mm step (below step_min) and a 45° flank keep their linear interpolation.
+    cv::Mat cloud(4, 3, CV_64FC3);
+    for (int y = 0; y < 4; ++y) {
+        cloud.at<cv::Vec3d>(y, 0) = {0.0, double(y), 0.0};
+        cloud.at<cv::Vec3d>(y, 1) = {1.0, double(y), 5.0};
+        cloud.at<cv::Vec3d>(y, 2) = {21.0, double(y), 25.0};
+    }
+    const GridSpec grid = makeGrid(0, 21, 0, 3, 0.5);
+    const cv::Mat plain = interpolateLattice(cloud, grid);
+    const cv::Mat stepped = interpolateLattice(cloud, grid, {4.0, 8.0});
+    for (int j = 0; j < grid.nv; ++j)
+        for (int i = 0; i < grid.nu; ++i) EXPECT_DOUBLE_EQ(plain.at<double>(j, i), stepped.at<double>(j, i));
+}
+
 TEST(HeightGrid, PlaneFitNormalFacesTheCamera) {
     std::vector<cv::Vec3d> points;
     for (int i = 0; i < 100; ++i) points.emplace_back(i % 10, i / 10, 800 + 0.1 * (i % 10));

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "core/volume/height_grid.hpp"
+
 #include <opencv2/calib3d.hpp>
 #include <gtest/gtest.h>
 
@@ -46,6 +48,68 @@ TEST(Registration, RecoversAKnownRigidShift) {
     EXPECT_LT(cv::norm(result.transform.translation - truth.translation), 0.1);
     EXPECT_LT(cv::norm(result.transform.rotation - truth.rotation, cv::NORM_INF), 2e-4);
     EXPECT_LT(result.sigmaMm, 0.1);
+}
+
+}  // namespace
+}  // namespace icewatch::volume
+
+namespace icewatch::volume {
+namespace {
+
+// A blade-like strip 800 × 100 mm, sampled every 5 mm, in a plane frame that is the camera's own.
+std::vector<cv::Vec3d> stripSamples() {
+    std::vector<cv::Vec3d> samples;
+    for (double u = -400; u <= 400; u += 5)
+        for (double v = -50; v <= 50; v += 5) samples.emplace_back(u, v, 0.0);
+    return samples;
+}
+
+PlaneFrame cameraPlane() {
+    PlaneFrame plane;
+    plane.origin = {0, 0, 0};
+    plane.axisU = {1, 0, 0};
+    plane.axisV = {0, 1, 0};
+    plane.normal = {0, 0, 1};
+    return plane;
+}
+
+TEST(Registration, SupportSpanSeesAPatchAtOneEnd) {
+    const std::vector<cv::Vec3d> samples = stripSamples();
+    std::vector<std::uint8_t> root(samples.size()), everywhere(samples.size(), 1), rearHalf(samples.size());
+    for (std::size_t i = 0; i < samples.size(); ++i) {
+        root[i] = samples[i][0] < -250;      // the first fifth of the span, whole chord
+        rearHalf[i] = samples[i][1] >= 0;    // along the whole span, half the chord
+    }
+    const RigidTransform identity;
+    EXPECT_DOUBLE_EQ(supportSpanPercent(samples, everywhere, identity, cameraPlane()), 100.0);
+    EXPECT_DOUBLE_EQ(supportSpanPercent(samples, {}, identity, cameraPlane()), 100.0);
+    // Two tenths of the span, and under a third of each chord bin's samples.
+    EXPECT_DOUBLE_EQ(supportSpanPercent(samples, root, identity, cameraPlane()), 0.0);
+    // Half the chord over the whole span covers every span bin and half the chord bins.
+    EXPECT_DOUBLE_EQ(supportSpanPercent(samples, rearHalf, identity, cameraPlane()), 50.0);
+}
+
+TEST(Registration, SupportSpanIgnoresScatteredPatches) {
+    const std::vector<cv::Vec3d> samples = stripSamples();
+    std::vector<std::uint8_t> patches(samples.size());
+    for (std::size_t i = 0; i < samples.size(); ++i) {
+        const double u = samples[i][0], v = samples[i][1];
+        // The root, plus three small patches further out: under a third of their bins' samples.
+        patches[i] = u < -250 || (std::abs(v) <= 10 && (std::abs(u) <= 10 || std::abs(u - 150) <= 10 || std::abs(u - 300) <= 10));
+    }
+    EXPECT_LT(supportSpanPercent(samples, patches, RigidTransform{}, cameraPlane()), 50.0);
+}
+
+TEST(Registration, SupportSpanFollowsTheTransform) {
+    // Moving the samples does not change the share: both the region and the support move.
+    const std::vector<cv::Vec3d> samples = stripSamples();
+    std::vector<std::uint8_t> root(samples.size());
+    for (std::size_t i = 0; i < samples.size(); ++i) root[i] = samples[i][0] < -250;
+    RigidTransform moved;
+    moved.translation = {7, -3, 2};
+    EXPECT_DOUBLE_EQ(supportSpanPercent(samples, root, moved, cameraPlane()),
+                     supportSpanPercent(samples, root, RigidTransform{}, cameraPlane()));
+    EXPECT_EQ(supportSpanPercent({}, {}, RigidTransform{}, cameraPlane()), 0.0);
 }
 
 }  // namespace
