@@ -208,9 +208,36 @@ cv::Mat lineCounts(const cv::Mat& a, const cv::Mat& b) {
     return counts;
 }
 
+// One step of a prefix sum over the padded disparity axis: after = before + weight * cost.
+// 32-bit sums that may wrap: differences of wrapped sums stay exact as every window sum fits.
+void addToPrefix(const std::uint16_t* cost, std::uint16_t weight, const std::uint32_t* before, std::uint32_t* after,
+                 int stride) {
+    const cv::v_uint16x8 w = cv::v_setall_u16(weight);
+    for (int d = 0; d < stride; d += kLanes) {
+        cv::v_uint32x4 lo, hi;
+        if (weight == 1) {
+            cv::v_expand(cv::v_load(cost + d), lo, hi);
+        } else {
+            cv::v_mul_expand(cv::v_load(cost + d), w, lo, hi);
+        }
+        cv::v_store(after + d, cv::v_load(before + d) + lo);
+        cv::v_store(after + d + kLanes32, cv::v_load(before + d + kLanes32) + hi);
+    }
+}
+
+// The rounded mean of a window from its two prefix sums: out = (end - begin) / count.
+void meanFromPrefix(const std::uint32_t* begin, const std::uint32_t* end, std::uint32_t count, int stride,
+                    std::uint16_t* out) {
+    const cv::v_float32x4 inverse = cv::v_setall_f32(1.0f / static_cast<float>(count));
+    for (int d = 0; d < stride; d += kLanes) {
+        const cv::v_uint32x4 lo = cv::v_load(end + d) - cv::v_load(begin + d);
+        const cv::v_uint32x4 hi = cv::v_load(end + d + kLanes32) - cv::v_load(begin + d + kLanes32);
+        cv::v_store(out + d, meanLanes(lo, hi, inverse));
+    }
+}
+
 // Weighted mean along each pixel's horizontal arm, in place: out(p) = Σ w(q) c(q) / Σ w(q), q on
-// the arm; weights empty means 1. Per-row prefix sums (32-bit; differences of wrapped sums stay
-// exact as every window sum fits).
+// the arm; weights empty means 1. Per-row prefix sums, rows split over stripes.
 void horizontalMeans(const CrossArms& arms, const cv::Mat& weights, CostVolume& costs) {
     const int width = costs.width, stride = costs.stride;
     forEachStripe(costs.height, [&](int, int begin, int end) {
@@ -219,91 +246,49 @@ void horizontalMeans(const CrossArms& arms, const cv::Mat& weights, CostVolume& 
         prefix.resize(static_cast<std::size_t>(width + 1) * stride);
         weightPrefix.resize(static_cast<std::size_t>(width + 1));
         weightPrefix[0] = 0;
+        std::fill(prefix.begin(), prefix.begin() + stride, 0u);
         for (int y = begin; y < end; ++y) {
             const std::uint16_t* w = weights.empty() ? nullptr : weights.ptr<std::uint16_t>(y);
-            std::fill(prefix.begin(), prefix.begin() + stride, 0u);
             for (int x = 0; x < width; ++x) {
-                const std::uint16_t* c = costs.at(x, y);
-                const std::uint32_t* before = prefix.data() + static_cast<std::size_t>(x) * stride;
-                std::uint32_t* after = prefix.data() + static_cast<std::size_t>(x + 1) * stride;
-                weightPrefix[static_cast<std::size_t>(x) + 1] = weightPrefix[static_cast<std::size_t>(x)] + (w ? w[x] : 1u);
-                if (w) {
-                    const cv::v_uint16x8 weight = cv::v_setall_u16(w[x]);
-                    for (int d = 0; d < stride; d += kLanes) {
-                        cv::v_uint32x4 lo, hi;
-                        cv::v_mul_expand(cv::v_load(c + d), weight, lo, hi);
-                        cv::v_store(after + d, cv::v_load(before + d) + lo);
-                        cv::v_store(after + d + kLanes32, cv::v_load(before + d + kLanes32) + hi);
-                    }
-                } else {
-                    for (int d = 0; d < stride; d += kLanes) {
-                        cv::v_uint32x4 lo, hi;
-                        cv::v_expand(cv::v_load(c + d), lo, hi);
-                        cv::v_store(after + d, cv::v_load(before + d) + lo);
-                        cv::v_store(after + d + kLanes32, cv::v_load(before + d + kLanes32) + hi);
-                    }
-                }
+                const std::uint16_t n = w ? w[x] : std::uint16_t{1};
+                const auto i = static_cast<std::size_t>(x);
+                weightPrefix[i + 1] = weightPrefix[i] + n;
+                addToPrefix(costs.at(x, y), n, prefix.data() + i * stride, prefix.data() + (i + 1) * stride, stride);
             }
             const std::uint8_t* left = arms.left.ptr<std::uint8_t>(y);
             const std::uint8_t* right = arms.right.ptr<std::uint8_t>(y);
             for (int x = 0; x < width; ++x) {
                 const auto x0 = static_cast<std::size_t>(x - left[x]), x1 = static_cast<std::size_t>(x + right[x] + 1);
-                const std::uint32_t* a = prefix.data() + x0 * stride;
-                const std::uint32_t* b = prefix.data() + x1 * stride;
-                const cv::v_float32x4 inverse =
-                    cv::v_setall_f32(1.0f / static_cast<float>(weightPrefix[x1] - weightPrefix[x0]));
-                std::uint16_t* out = costs.at(x, y);
-                for (int d = 0; d < stride; d += kLanes) {
-                    const cv::v_uint32x4 lo = cv::v_load(b + d) - cv::v_load(a + d);
-                    const cv::v_uint32x4 hi = cv::v_load(b + d + kLanes32) - cv::v_load(a + d + kLanes32);
-                    cv::v_store(out + d, meanLanes(lo, hi, inverse));
-                }
+                meanFromPrefix(prefix.data() + x0 * stride, prefix.data() + x1 * stride,
+                               weightPrefix[x1] - weightPrefix[x0], stride, costs.at(x, y));
             }
         }
     });
 }
 
-// Weighted mean along each pixel's vertical arm, costs -> out (weights empty means 1). Per column
-// a prefix sum over the rows (32-bit, wrapping like the horizontal one), so each pixel costs one
-// difference whatever its arm length; columns are split over stripes.
+// Weighted mean along each pixel's vertical arm, costs -> out (weights empty means 1). Per-column
+// prefix sums, so each pixel costs one difference whatever its arm length; columns split over
+// stripes.
 void verticalMeans(const CrossArms& arms, const cv::Mat& weights, const CostVolume& costs, CostVolume& out) {
     const int width = costs.width, height = costs.height, stride = costs.stride;
     forEachStripe(width, [&](int, int begin, int end) {
-        thread_local std::vector<std::uint32_t> columnPrefix, columnWeightPrefix;
-        std::vector<std::uint32_t>& prefix = columnPrefix;
-        std::vector<std::uint32_t>& weightPrefix = columnWeightPrefix;
+        thread_local std::vector<std::uint32_t> prefix, weightPrefix;
         prefix.resize(static_cast<std::size_t>(height + 1) * stride);
         weightPrefix.resize(static_cast<std::size_t>(height + 1));
+        weightPrefix[0] = 0;
+        std::fill(prefix.begin(), prefix.begin() + stride, 0u);
         for (int x = begin; x < end; ++x) {
-            std::fill(prefix.begin(), prefix.begin() + stride, 0u);
-            weightPrefix[0] = 0;
             for (int y = 0; y < height; ++y) {
                 const std::uint16_t n = weights.empty() ? std::uint16_t{1} : weights.at<std::uint16_t>(y, x);
-                weightPrefix[static_cast<std::size_t>(y) + 1] = weightPrefix[static_cast<std::size_t>(y)] + n;
-                const cv::v_uint16x8 weight = cv::v_setall_u16(n);
-                const std::uint16_t* c = costs.at(x, y);
-                const std::uint32_t* before = prefix.data() + static_cast<std::size_t>(y) * stride;
-                std::uint32_t* after = prefix.data() + static_cast<std::size_t>(y + 1) * stride;
-                for (int d = 0; d < stride; d += kLanes) {
-                    cv::v_uint32x4 lo, hi;
-                    cv::v_mul_expand(cv::v_load(c + d), weight, lo, hi);
-                    cv::v_store(after + d, cv::v_load(before + d) + lo);
-                    cv::v_store(after + d + kLanes32, cv::v_load(before + d + kLanes32) + hi);
-                }
+                const auto i = static_cast<std::size_t>(y);
+                weightPrefix[i + 1] = weightPrefix[i] + n;
+                addToPrefix(costs.at(x, y), n, prefix.data() + i * stride, prefix.data() + (i + 1) * stride, stride);
             }
             for (int y = 0; y < height; ++y) {
                 const auto y0 = static_cast<std::size_t>(y - arms.up.at<std::uint8_t>(y, x));
                 const auto y1 = static_cast<std::size_t>(y + arms.down.at<std::uint8_t>(y, x) + 1);
-                const std::uint32_t* a = prefix.data() + y0 * stride;
-                const std::uint32_t* b = prefix.data() + y1 * stride;
-                const cv::v_float32x4 inverse =
-                    cv::v_setall_f32(1.0f / static_cast<float>(weightPrefix[y1] - weightPrefix[y0]));
-                std::uint16_t* o = out.at(x, y);
-                for (int d = 0; d < stride; d += kLanes) {
-                    const cv::v_uint32x4 lo = cv::v_load(b + d) - cv::v_load(a + d);
-                    const cv::v_uint32x4 hi = cv::v_load(b + d + kLanes32) - cv::v_load(a + d + kLanes32);
-                    cv::v_store(o + d, meanLanes(lo, hi, inverse));
-                }
+                meanFromPrefix(prefix.data() + y0 * stride, prefix.data() + y1 * stride,
+                               weightPrefix[y1] - weightPrefix[y0], stride, out.at(x, y));
             }
         }
     });
