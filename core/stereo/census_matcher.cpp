@@ -36,8 +36,8 @@ cv::Mat CensusMatcher::compute(const cv::Mat& left, const cv::Mat& right, int ma
     // 1. Per eye: impulse repair and noise-adaptive smoothing, then what the matching cost needs of
     //    the image. The two eyes are independent, so they run as two tasks side by side (the
     //    stages inside run serially then; their results do not depend on it).
-    CostInputs leftInputs{bgrLeft, {}, {}, &leftCensus_};
-    CostInputs rightInputs{bgrRight, {}, {}, &rightCensus_};
+    CostInputs leftInputs{{}, {}, {}, &leftCensus_};
+    CostInputs rightInputs{{}, {}, {}, &rightCensus_};
     auto prepareEye = [&](bool isLeft) {
         cv::Mat& bgr = isLeft ? bgrLeft : bgrRight;
         cv::Mat& grey = isLeft ? greyLeft : greyRight;
@@ -75,12 +75,12 @@ cv::Mat CensusMatcher::compute(const cv::Mat& left, const cv::Mat& right, int ma
     const ScanlinePenalties penalties = scanlinePenalties(p);
     if (p.rightViewAggregation) {
         rightViewCosts(costs_, method_ == Method::Paper ? kPaperInvalidCost : kAdCensusInvalidCost, rightCosts_);
-        cv::Mat mirroredRight, mirroredDisparity, unused;
+        cv::Mat mirroredRight, mirroredDisparity;
         cv::flip(bgrRight, mirroredRight, 1);
         computeCrossArms(mirroredRight, p, rightArms_);
         aggregateCross(rightArms_, p.crossIterations, rightCosts_, scratch_);
         aggregateScanlines(rightCosts_, mirroredRight, penalties, scratch_);
-        winnerTakesAll(scratch_, mirroredDisparity, unused);
+        winnerTakesAll(scratch_, mirroredDisparity);
         cv::flip(mirroredDisparity, rightDisparity, 1);
     }
 
@@ -91,9 +91,12 @@ cv::Mat CensusMatcher::compute(const cv::Mat& left, const cv::Mat& right, int ma
     // 5. Scanline optimisation along 8 directions, summed into the second volume; winner-take-all
     //    (the right view from the same volume's diagonals when it had no pass of its own).
     aggregateScanlines(costs_, bgrLeft, penalties, scratch_);
-    cv::Mat disparity, diagonalRight;
-    winnerTakesAll(scratch_, disparity, diagonalRight);
-    if (!p.rightViewAggregation) rightDisparity = diagonalRight;
+    cv::Mat disparity;
+    if (p.rightViewAggregation) {
+        winnerTakesAll(scratch_, disparity);
+    } else {
+        winnerTakesAll(scratch_, disparity, rightDisparity);
+    }
 
     // 6. Outliers: left-right check (occluded or mismatched), region voting, interpolation;
     //    disparity edges moved to the side whose cost is lower.

@@ -173,6 +173,8 @@ void scanlineStep(const std::uint16_t* cost, const std::uint16_t* previous, int 
 // Winner-take-all of the left view, and of the right view from the same volume
 // (D_R(x) = argmin_d cost(x + d, d)). CV_16SC1.
 void winnerTakesAll(const CostVolume& costs, cv::Mat& leftDisparity, cv::Mat& rightDisparity);
+// The left view alone.
+void winnerTakesAll(const CostVolume& costs, cv::Mat& leftDisparity);
 void winnerTakesAllReference(const CostVolume& costs, cv::Mat& leftDisparity, cv::Mat& rightDisparity);
 
 // ---- refinement.cpp ---------------------------------------------------------------------------
