@@ -126,6 +126,10 @@ void readStereo(Section s, stereo::Parameters& p) {
     s.read("scanline_tau", p.scanlineTau, 0, 255);
     s.read("lr_max_difference", p.lrMaxDifference, 0, 16);
     s.read("right_view_aggregation", p.rightViewAggregation);
+    s.read("right_view_scanline_directions", p.rightViewScanlineDirections, 4, 8);
+    if (p.rightViewScanlineDirections != 4 && p.rightViewScanlineDirections != 8) {
+        s.fail("right_view_scanline_directions", "must be 4 or 8");
+    }
     s.read("voting_iterations", p.votingIterations, 0, 20);
     s.read("voting_min_count", p.votingMinCount, 0, 100000);
     s.read("voting_min_ratio", p.votingMinRatio, 0.0, 1.0);

@@ -69,7 +69,7 @@ cv::Mat CensusMatcher::compute(const cv::Mat& left, const cv::Mat& right, int ma
 
     // 3. The right view, when it gets its own pass: its costs read off the left volume (mirrored,
     //    so it is the left view of the mirrored pair), cross regions of the right image,
-    //    aggregation, scanlines and winner-take-all. Run first, so that the left view's
+    //    aggregation, scanlines (4 directions by default: Parameters explains) and winner-take-all. Run first, so that the left view's
     //    aggregated volume is the one left in scratch_ for the refinement.
     cv::Mat rightDisparity;
     const ScanlinePenalties penalties = scanlinePenalties(p);
@@ -79,7 +79,7 @@ cv::Mat CensusMatcher::compute(const cv::Mat& left, const cv::Mat& right, int ma
         cv::flip(bgrRight, mirroredRight, 1);
         computeCrossArms(mirroredRight, p, rightArms_);
         aggregateCross(rightArms_, p.crossIterations, rightCosts_, scratch_);
-        aggregateScanlines(rightCosts_, mirroredRight, penalties, scratch_);
+        aggregateScanlines(rightCosts_, mirroredRight, penalties, scratch_, p.rightViewScanlineDirections);
         winnerTakesAll(scratch_, mirroredDisparity);
         cv::flip(mirroredDisparity, rightDisparity, 1);
     }

@@ -72,13 +72,14 @@ std::uint16_t roundedMean(std::uint32_t sum, float inverseCount) {
     return static_cast<std::uint16_t>(cvRound(static_cast<float>(static_cast<std::int32_t>(sum)) * inverseCount));
 }
 
-constexpr int kLanes = cv::v_uint16x8::nlanes;
-constexpr int kLanes32 = cv::v_uint32x4::nlanes;
+constexpr int kLanes = cv::v_uint16::nlanes;
+constexpr int kLanes32 = cv::v_uint32::nlanes;
+static_assert(kDisparityAlign % kLanes == 0, "whole vectors along the padded disparity axis");
 
-// Rounded mean of 8 lanes given as two 4-lane sums.
-cv::v_uint16x8 meanLanes(const cv::v_uint32x4& lo, const cv::v_uint32x4& hi, const cv::v_float32x4& inverse) {
-    const cv::v_int32x4 a = cv::v_round(cv::v_cvt_f32(cv::v_reinterpret_as_s32(lo)) * inverse);
-    const cv::v_int32x4 b = cv::v_round(cv::v_cvt_f32(cv::v_reinterpret_as_s32(hi)) * inverse);
+// Rounded means of one vector of 16-bit lanes, given as its two halves of 32-bit sums.
+cv::v_uint16 meanLanes(const cv::v_uint32& lo, const cv::v_uint32& hi, const cv::v_float32& inverse) {
+    const cv::v_int32 a = cv::v_round(cv::v_cvt_f32(cv::v_reinterpret_as_s32(lo)) * inverse);
+    const cv::v_int32 b = cv::v_round(cv::v_cvt_f32(cv::v_reinterpret_as_s32(hi)) * inverse);
     return cv::v_pack_u(a, b);
 }
 
@@ -212,26 +213,26 @@ cv::Mat lineCounts(const cv::Mat& a, const cv::Mat& b) {
 // 32-bit sums that may wrap: differences of wrapped sums stay exact as every window sum fits.
 void addToPrefix(const std::uint16_t* cost, std::uint16_t weight, const std::uint32_t* before, std::uint32_t* after,
                  int stride) {
-    const cv::v_uint16x8 w = cv::v_setall_u16(weight);
+    const cv::v_uint16 w = cv::vx_setall_u16(weight);
     for (int d = 0; d < stride; d += kLanes) {
-        cv::v_uint32x4 lo, hi;
+        cv::v_uint32 lo, hi;
         if (weight == 1) {
-            cv::v_expand(cv::v_load(cost + d), lo, hi);
+            cv::v_expand(cv::vx_load(cost + d), lo, hi);
         } else {
-            cv::v_mul_expand(cv::v_load(cost + d), w, lo, hi);
+            cv::v_mul_expand(cv::vx_load(cost + d), w, lo, hi);
         }
-        cv::v_store(after + d, cv::v_load(before + d) + lo);
-        cv::v_store(after + d + kLanes32, cv::v_load(before + d + kLanes32) + hi);
+        cv::v_store(after + d, cv::vx_load(before + d) + lo);
+        cv::v_store(after + d + kLanes32, cv::vx_load(before + d + kLanes32) + hi);
     }
 }
 
 // The rounded mean of a window from its two prefix sums: out = (end - begin) / count.
 void meanFromPrefix(const std::uint32_t* begin, const std::uint32_t* end, std::uint32_t count, int stride,
                     std::uint16_t* out) {
-    const cv::v_float32x4 inverse = cv::v_setall_f32(1.0f / static_cast<float>(count));
+    const cv::v_float32 inverse = cv::vx_setall_f32(1.0f / static_cast<float>(count));
     for (int d = 0; d < stride; d += kLanes) {
-        const cv::v_uint32x4 lo = cv::v_load(end + d) - cv::v_load(begin + d);
-        const cv::v_uint32x4 hi = cv::v_load(end + d + kLanes32) - cv::v_load(begin + d + kLanes32);
+        const cv::v_uint32 lo = cv::vx_load(end + d) - cv::vx_load(begin + d);
+        const cv::v_uint32 hi = cv::vx_load(end + d + kLanes32) - cv::vx_load(begin + d + kLanes32);
         cv::v_store(out + d, meanLanes(lo, hi, inverse));
     }
 }

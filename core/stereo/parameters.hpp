@@ -87,6 +87,11 @@ struct Parameters {
     // left image's support regions then judge the right view and many wrong pixels pass the
     // check. Cones+Teddy average bad: 4.05 % on, 4.49 % off (AD-Census 3.57 / 4.09 %).
     bool rightViewAggregation = true;
+    // Scanline directions of that pass: 8, or the 4 along the axes. The right view only decides
+    // which left pixels pass the check, and 4 directions measured better there, as well as faster:
+    // Cones+Teddy average bad 3.96 % clean with 4, 4.05 % with 8 (salt-and-pepper 3 %: 4.04 /
+    // 4.13 %; Gaussian σ 2: 5.64 / 5.57 %). The left view always takes all 8.
+    int rightViewScanlineDirections = 4;
     int votingIterations = 5;     // Mei: 5
     int votingMinCount = 10;      // tau_S: reliable pixels the region needs. Mei: 20
     double votingMinRatio = 0.3;  // tau_H: share of the most frequent disparity. Mei: 0.4

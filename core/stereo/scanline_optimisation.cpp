@@ -10,8 +10,11 @@
 //
 // The volume is swept three times: along rows (both horizontal directions, rows split over
 // stripes), then down and up (three directions each, row after row, columns split over stripes).
-// The recurrence runs 8 disparities per vector with saturating 16-bit arithmetic, fused with the
-// minimum for the next step and the sum; padded lanes hold 0xFFFF and never win a minimum.
+// With the 4 axis directions only (the right view's pass), down and up run column by column with
+// no wait between rows. The penalty case of every pixel and direction is computed once before the
+// sweeps. The recurrence runs a whole vector of disparities at a time (8 or 16) with saturating
+// 16-bit arithmetic, fused with the minimum for the next step and the sum; padded lanes hold
+// 0xFFFF and never win a minimum.
 #include <algorithm>
 #include <cmath>
 
@@ -23,7 +26,9 @@ namespace icewatch::stereo::detail {
 
 namespace {
 
-constexpr int kLanes = cv::v_uint16x8::nlanes;
+constexpr int kLanes = cv::v_uint16::nlanes;
+constexpr int kLanes8 = cv::v_uint8x16::nlanes;
+static_assert(kDisparityAlign % kLanes == 0, "whole vectors along the padded disparity axis");
 
 std::uint16_t saturatedAdd(int a, int b) { return static_cast<std::uint16_t>(std::min(a + b, 0xFFFF)); }
 
@@ -42,22 +47,22 @@ template <bool kFirst>
 std::uint16_t stepAndAccumulate(const std::uint16_t* cost, const std::uint16_t* previous, std::uint16_t minPrevious,
                                 int stride, std::uint16_t p1, std::uint16_t p2, std::uint16_t* out,
                                 std::uint16_t* sum) {
-    const cv::v_uint16x8 vMin = cv::v_setall_u16(minPrevious);
-    const cv::v_uint16x8 vJump = vMin + cv::v_setall_u16(p2);  // saturating
-    const cv::v_uint16x8 vP1 = cv::v_setall_u16(p1);
-    const cv::v_uint16x8 none = cv::v_setall_u16(0xFFFF);
-    cv::v_uint16x8 newMin = none;
-    cv::v_uint16x8 before = none;
-    cv::v_uint16x8 current = cv::v_load(previous);
+    const cv::v_uint16 vMin = cv::vx_setall_u16(minPrevious);
+    const cv::v_uint16 vJump = vMin + cv::vx_setall_u16(p2);  // saturating
+    const cv::v_uint16 vP1 = cv::vx_setall_u16(p1);
+    const cv::v_uint16 none = cv::vx_setall_u16(0xFFFF);
+    cv::v_uint16 newMin = none;
+    cv::v_uint16 before = none;
+    cv::v_uint16 current = cv::vx_load(previous);
     for (int d = 0; d < stride; d += kLanes) {
-        const cv::v_uint16x8 after = d + kLanes < stride ? cv::v_load(previous + d + kLanes) : none;
-        const cv::v_uint16x8 lower = cv::v_extract<kLanes - 1>(before, current);  // L(d-1)
-        const cv::v_uint16x8 upper = cv::v_extract<1>(current, after);            // L(d+1)
-        cv::v_uint16x8 m = cv::v_min(current, cv::v_min(lower + vP1, upper + vP1));
+        const cv::v_uint16 after = d + kLanes < stride ? cv::vx_load(previous + d + kLanes) : none;
+        const cv::v_uint16 lower = cv::v_extract<kLanes - 1>(before, current);  // L(d-1)
+        const cv::v_uint16 upper = cv::v_extract<1>(current, after);            // L(d+1)
+        cv::v_uint16 m = cv::v_min(current, cv::v_min(lower + vP1, upper + vP1));
         m = cv::v_min(m, vJump);
-        const cv::v_uint16x8 l = cv::v_load(cost + d) + (m - vMin);
+        const cv::v_uint16 l = cv::vx_load(cost + d) + (m - vMin);
         cv::v_store(out + d, l);
-        cv::v_store(sum + d, kFirst ? l : cv::v_load(sum + d) + l);
+        cv::v_store(sum + d, kFirst ? l : cv::vx_load(sum + d) + l);
         newMin = cv::v_min(newMin, l);
         before = current;
         current = after;
@@ -68,43 +73,128 @@ std::uint16_t stepAndAccumulate(const std::uint16_t* cost, const std::uint16_t* 
 // The first pixel of a line: L = C.
 template <bool kFirst>
 std::uint16_t startLine(const std::uint16_t* cost, int stride, std::uint16_t* out, std::uint16_t* sum) {
-    cv::v_uint16x8 newMin = cv::v_setall_u16(0xFFFF);
+    cv::v_uint16 newMin = cv::vx_setall_u16(0xFFFF);
     for (int d = 0; d < stride; d += kLanes) {
-        const cv::v_uint16x8 l = cv::v_load(cost + d);
+        const cv::v_uint16 l = cv::vx_load(cost + d);
         cv::v_store(out + d, l);
-        cv::v_store(sum + d, kFirst ? l : cv::v_load(sum + d) + l);
+        cv::v_store(sum + d, kFirst ? l : cv::vx_load(sum + d) + l);
         newMin = cv::v_min(newMin, l);
     }
     return cv::v_reduce_min(newMin);
 }
 
-int penaltyCaseAt(const cv::Mat& bgr, int x, int y, Direction r, int tau) {
-    const int px = x - r.dx, py = y - r.dy, qx = px - r.dx, qy = py - r.dy;
-    const int d1 = colourDistance(bgr.at<cv::Vec3b>(y, x), bgr.at<cv::Vec3b>(py, px));
-    const bool hasSecond = qx >= 0 && qy >= 0 && qx < bgr.cols && qy < bgr.rows;
-    const int d2 = hasSecond ? colourDistance(bgr.at<cv::Vec3b>(py, px), bgr.at<cv::Vec3b>(qy, qx)) : 0;
-    return penaltyCase(d1, d2, tau);
-}
+// The penalty case of every pixel for every direction, computed once per image rather than per
+// step (two colour distances per pixel and direction would otherwise sit inside the recurrence).
+// For an axis a, below_a(u) = [D_c(u, u - a) < τ]. Direction r = a reads D1 = below_a(p) and
+// D2 = below_a(p - a); r = -a reads D1 = below_a(p + a) and D2 = below_a(p + 2a). A neighbour
+// outside the image gives D2 = 0, as in the reference: below_a is (0 < τ) where
+// u - a is outside and on a border of two pixels around the image.
+class PenaltyCases {
+public:
+    void compute(const cv::Mat& bgr, int tau) {
+        const int width = bgr.cols, height = bgr.rows;
+        cv::split(bgr, planes_);
+        const std::uint8_t outside = 0 < tau ? 1 : 0;
+        for (int a = 0; a < 4; ++a) {
+            below_[a].create(height + 2 * kBorder, width + 2 * kBorder, CV_8UC1);
+            below_[a].setTo(outside);
+        }
+        for (int i = 0; i < 8; ++i) cases_[i].create(height, width, CV_8UC1);
+        forEachStripe(height, [&](int, int begin, int end) {
+            for (int a = 0; a < 4; ++a) belowRows(a, begin, end, tau);
+        });
+        forEachStripe(height, [&](int, int begin, int end) {
+            for (int i = 0; i < 8; ++i) caseRows(i, begin, end);
+        });
+    }
+    // Index of r in kDirections.
+    const std::uint8_t* row(int direction, int y) const { return cases_[direction].ptr<std::uint8_t>(y); }
+
+private:
+    static constexpr int kBorder = 2;
+    static constexpr Direction kAxes[4] = {{1, 0}, {0, 1}, {1, 1}, {-1, 1}};
+
+    std::uint8_t* belowAt(int a, int x, int y) { return below_[a].ptr<std::uint8_t>(y + kBorder) + x + kBorder; }
+
+    void belowRows(int a, int begin, int end, int tau) {
+        const Direction axis = kAxes[a];
+        const int width = planes_[0].cols;
+        const cv::v_uint8x16 vTau = cv::v_setall_u8(static_cast<std::uint8_t>(std::clamp(tau, 0, 255)));
+        const cv::v_uint8x16 one = cv::v_setall_u8(1);
+        for (int y = std::max(begin, axis.dy); y < end; ++y) {
+            const int x0 = std::max(0, axis.dx), x1 = std::min(width, width + axis.dx);
+            const std::uint8_t* here[3];
+            const std::uint8_t* back[3];
+            for (int c = 0; c < 3; ++c) {
+                here[c] = planes_[c].ptr<std::uint8_t>(y);
+                back[c] = planes_[c].ptr<std::uint8_t>(y - axis.dy) - axis.dx;
+            }
+            std::uint8_t* out = belowAt(a, 0, y);
+            int x = x0;
+            if (tau <= 255) {
+                for (; x + kLanes8 <= x1; x += kLanes8) {
+                    cv::v_uint8x16 d = cv::v_absdiff(cv::v_load(here[0] + x), cv::v_load(back[0] + x));
+                    d = cv::v_max(d, cv::v_absdiff(cv::v_load(here[1] + x), cv::v_load(back[1] + x)));
+                    d = cv::v_max(d, cv::v_absdiff(cv::v_load(here[2] + x), cv::v_load(back[2] + x)));
+                    cv::v_store(out + x, (d < vTau) & one);
+                }
+            }
+            for (; x < x1; ++x) {
+                const int d = std::max({std::abs(here[0][x] - back[0][x]), std::abs(here[1][x] - back[1][x]),
+                                        std::abs(here[2][x] - back[2][x])});
+                out[x] = d < tau ? 1 : 0;
+            }
+        }
+    }
+
+    void caseRows(int direction, int begin, int end) {
+        const Direction r = kDirections[direction];
+        int a = 0;
+        while (!((kAxes[a].dx == r.dx && kAxes[a].dy == r.dy) || (kAxes[a].dx == -r.dx && kAxes[a].dy == -r.dy))) ++a;
+        const bool forward = kAxes[a].dx == r.dx && kAxes[a].dy == r.dy;
+        // The two below_a samples, as offsets from p: (0, -r) forwards, (-r, -2r) backwards.
+        const int k1 = forward ? 0 : 1, k2 = forward ? 1 : 2;
+        const int width = planes_[0].cols;
+        const cv::v_uint8x16 two = cv::v_setall_u8(2);
+        for (int y = begin; y < end; ++y) {
+            const std::uint8_t* b1 = belowAt(a, -k1 * r.dx, y - k1 * r.dy);
+            const std::uint8_t* b2 = belowAt(a, -k2 * r.dx, y - k2 * r.dy);
+            std::uint8_t* out = cases_[direction].ptr<std::uint8_t>(y);
+            int x = 0;
+            for (; x + kLanes8 <= width; x += kLanes8) {
+                cv::v_store(out + x, two - cv::v_load(b1 + x) - cv::v_load(b2 + x));
+            }
+            for (; x < width; ++x) out[x] = static_cast<std::uint8_t>(2 - b1[x] - b2[x]);
+        }
+    }
+
+    cv::Mat planes_[3];
+    cv::Mat below_[4];
+    cv::Mat cases_[8];
+};
 
 // Left-to-right and right-to-left along every row: rows are independent, split over stripes.
 // This pass starts the sum.
-void horizontalPass(const CostVolume& costs, const cv::Mat& bgr, const ScanlinePenalties& penalties, CostVolume& sum) {
+void horizontalPass(const CostVolume& costs, const PenaltyCases& cases, const ScanlinePenalties& penalties,
+                    CostVolume& sum) {
     const int width = costs.width, stride = costs.stride;
     forEachStripe(costs.height, [&](int, int begin, int end) {
         std::vector<std::uint16_t> buffers(static_cast<std::size_t>(2 * stride));
         std::uint16_t* previous = buffers.data();
         std::uint16_t* current = buffers.data() + stride;
         for (int y = begin; y < end; ++y) {
+            const std::uint8_t* rightwards = cases.row(0, y);
+            const std::uint8_t* leftwards = cases.row(1, y);
             std::uint16_t minimum = startLine<true>(costs.at(0, y), stride, previous, sum.at(0, y));
             for (int x = 1; x < width; ++x) {
-                const int c = penaltyCaseAt(bgr, x, y, {1, 0}, penalties.tau);
+                const int c = rightwards[x];
                 minimum = stepAndAccumulate<true>(costs.at(x, y), previous, minimum, stride, penalties.p1[c],
                                                   penalties.p2[c], current, sum.at(x, y));
                 std::swap(previous, current);
             }
             minimum = startLine<false>(costs.at(width - 1, y), stride, previous, sum.at(width - 1, y));
             for (int x = width - 2; x >= 0; --x) {
-                const int c = penaltyCaseAt(bgr, x, y, {-1, 0}, penalties.tau);
+                const int c = leftwards[x];
                 minimum = stepAndAccumulate<false>(costs.at(x, y), previous, minimum, stride, penalties.p1[c],
                                                    penalties.p2[c], current, sum.at(x, y));
                 std::swap(previous, current);
@@ -116,10 +206,11 @@ void horizontalPass(const CostVolume& costs, const cv::Mat& bgr, const ScanlineP
 // The three directions that go down (dy = 1) or up (dy = -1), row after row: each row depends
 // only on the previous one, so a row's columns are split over stripes. One read of the costs and
 // one update of the sum serve all three directions.
-void verticalPass(const CostVolume& costs, const cv::Mat& bgr, const ScanlinePenalties& penalties, int dy,
+void verticalPass(const CostVolume& costs, const PenaltyCases& cases, const ScanlinePenalties& penalties, int dy,
                   CostVolume& sum) {
     const int width = costs.width, height = costs.height, stride = costs.stride;
     const Direction directions[3] = {{0, dy}, {1, dy}, {-1, dy}};
+    const int caseIndex[3] = {dy > 0 ? 2 : 3, dy > 0 ? 4 : 6, dy > 0 ? 7 : 5};  // in kDirections
     const auto rowSize = static_cast<std::size_t>(width) * stride;
     std::vector<std::uint16_t> rows(6 * rowSize);  // previous and current row of L per direction
     std::vector<std::uint16_t> minima(6 * static_cast<std::size_t>(width));
@@ -144,7 +235,7 @@ void verticalPass(const CostVolume& costs, const cv::Mat& bgr, const ScanlinePen
                     if (step == 0 || px < 0 || px >= width) {
                         currentMin[i][x] = startLine<false>(costs.at(x, y), stride, out, sum.at(x, y));
                     } else {
-                        const int c = penaltyCaseAt(bgr, x, y, r, penalties.tau);
+                        const int c = cases.row(caseIndex[i], y)[x];
                         currentMin[i][x] = stepAndAccumulate<false>(
                             costs.at(x, y), previous[i] + static_cast<std::size_t>(px) * stride, previousMin[i][px],
                             stride, penalties.p1[c], penalties.p2[c], out, sum.at(x, y));
@@ -157,6 +248,32 @@ void verticalPass(const CostVolume& costs, const cv::Mat& bgr, const ScanlinePen
             std::swap(previousMin[i], currentMin[i]);
         }
     }
+}
+
+// Straight down and straight up alone (the 4-direction sum): columns are independent, so they are
+// split over stripes once, with no wait between rows. Each column runs down, then up.
+void columnPass(const CostVolume& costs, const PenaltyCases& cases, const ScanlinePenalties& penalties,
+                CostVolume& sum) {
+    const int height = costs.height, stride = costs.stride;
+    forEachStripe(costs.width, [&](int, int begin, int end) {
+        std::vector<std::uint16_t> buffers(static_cast<std::size_t>(2 * stride));
+        for (int x = begin; x < end; ++x) {
+            for (const int dy : {1, -1}) {
+                const int caseIndex = dy > 0 ? 2 : 3;  // in kDirections
+                std::uint16_t* previous = buffers.data();
+                std::uint16_t* current = buffers.data() + stride;
+                const int y0 = dy > 0 ? 0 : height - 1;
+                std::uint16_t minimum = startLine<false>(costs.at(x, y0), stride, previous, sum.at(x, y0));
+                for (int step = 1; step < height; ++step) {
+                    const int y = y0 + dy * step;
+                    const int c = cases.row(caseIndex, y)[x];
+                    minimum = stepAndAccumulate<false>(costs.at(x, y), previous, minimum, stride, penalties.p1[c],
+                                                       penalties.p2[c], current, sum.at(x, y));
+                    std::swap(previous, current);
+                }
+            }
+        }
+    });
 }
 
 }  // namespace
@@ -191,22 +308,31 @@ void scanlineStep(const std::uint16_t* cost, const std::uint16_t* previous, int 
 }
 
 void aggregateScanlines(const CostVolume& costs, const cv::Mat& bgr, const ScanlinePenalties& penalties,
-                        CostVolume& sum) {
+                        CostVolume& sum, int directions) {
+    CV_Assert(directions == 8 || directions == 4);
+    CV_Assert(bgr.type() == CV_8UC3 && bgr.cols == costs.width && bgr.rows == costs.height);
     sum.create(costs.width, costs.height, costs.disparities);
+    thread_local PenaltyCases cases;  // reallocated only when the image size changes
+    cases.compute(bgr, penalties.tau);
     // Three sweeps over the volume instead of eight.
-    horizontalPass(costs, bgr, penalties, sum);
-    verticalPass(costs, bgr, penalties, 1, sum);
-    verticalPass(costs, bgr, penalties, -1, sum);
+    horizontalPass(costs, cases, penalties, sum);
+    if (directions == 8) {
+        verticalPass(costs, cases, penalties, 1, sum);
+        verticalPass(costs, cases, penalties, -1, sum);
+    } else {
+        columnPass(costs, cases, penalties, sum);
+    }
 }
 
 void aggregateScanlinesReference(const CostVolume& costs, const cv::Mat& bgr, const ScanlinePenalties& penalties,
-                                 CostVolume& sum) {
+                                 CostVolume& sum, int directions) {
     sum.create(costs.width, costs.height, costs.disparities);
     std::fill(sum.data.begin(), sum.data.end(), 0);
     const int stride = costs.stride;
     CostVolume l;
     l.create(costs.width, costs.height, costs.disparities);
     for (const Direction r : kDirections) {
+        if (directions == 4 && r.dx != 0 && r.dy != 0) continue;
         // Visit pixels in an order where p - r always comes before p.
         const int y0 = r.dy >= 0 ? 0 : costs.height - 1, y1 = r.dy >= 0 ? costs.height : -1, sy = r.dy >= 0 ? 1 : -1;
         const int x0 = r.dx >= 0 ? 0 : costs.width - 1, x1 = r.dx >= 0 ? costs.width : -1, sx = r.dx >= 0 ? 1 : -1;

@@ -15,9 +15,9 @@ namespace icewatch::stereo::detail {
 // Costs are 16-bit fixed point: 1.0 of a fused cost term is kCostScale. The scanline sum of 8
 // directions stays below 65536 as long as cost + P2 <= 8191 (the config limits Pi2 for that).
 inline constexpr int kCostScale = 512;
-// The disparity axis is padded to a multiple of the 128-bit vector's 16-bit lanes; padded cells
-// hold kPadCost so they never win a minimum.
-inline constexpr int kDisparityAlign = 8;
+// The disparity axis is padded to a multiple of the widest vector's 16-bit lanes (16 with AVX2,
+// 8 with SSE or NEON); padded cells hold kPadCost so they never win a minimum.
+inline constexpr int kDisparityAlign = 16;
 inline constexpr std::uint16_t kPadCost = 0xFFFF;
 // Work is split into this many stripes whatever the core count, so results never depend on it.
 inline constexpr int kStripes = 16;
@@ -160,11 +160,12 @@ struct ScanlinePenalties {
 ScanlinePenalties scanlinePenalties(const Parameters& parameters);
 // Which of the three cases applies for D1 = D_c(p, p-r), D2 = D_c(p-r, p-2r).
 int penaltyCase(int d1, int d2, int tau);
-// sum(p, d) = sum over the 8 directions r of L_r(p, d).
+// sum(p, d) = sum over the directions r of L_r(p, d): all 8, or the 4 along the axes (no
+// diagonals).
 void aggregateScanlines(const CostVolume& costs, const cv::Mat& bgr, const ScanlinePenalties& penalties,
-                        CostVolume& sum);
+                        CostVolume& sum, int directions = 8);
 void aggregateScanlinesReference(const CostVolume& costs, const cv::Mat& bgr, const ScanlinePenalties& penalties,
-                                 CostVolume& sum);
+                                 CostVolume& sum, int directions = 8);
 // One step of one direction: L(d) from the previous pixel's Lprev. Exposed for tests.
 void scanlineStep(const std::uint16_t* cost, const std::uint16_t* previous, int disparities, std::uint16_t p1,
                   std::uint16_t p2, std::uint16_t* out);
@@ -200,6 +201,10 @@ cv::Mat subpixelRefine(const cv::Mat& disparity, const CostVolume& costs);
 // within ±maxChange of it. greyLeft, greyRight: CV_32FC1.
 void refineSubpixelByIntensity(const cv::Mat& greyLeft, const cv::Mat& greyRight, int radius, int iterations,
                                float maxChange, cv::Mat& disparity);
+// The same, one window sample at a time; the optimised kernel sums in another order, so the two
+// agree to float rounding, not bit for bit.
+void refineSubpixelByIntensityReference(const cv::Mat& greyLeft, const cv::Mat& greyRight, int radius,
+                                        int iterations, float maxChange, cv::Mat& disparity);
 // The fit used by subpixelRefine: offset in (-0.5, 0.5) from the costs at d-1, d, d+1.
 float subpixelOffset(int costMinus, int cost, int costPlus);
 

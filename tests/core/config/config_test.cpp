@@ -163,6 +163,11 @@ TEST(Config, StereoSectionIsReadAndChecked) {
               "test.json: stereo.scanline_pi2: must be between 0.0 and 10.0, got 11");
     EXPECT_EQ(errorOf(R"({"stereo": {"cross_tau2": 30}})"), "test.json: stereo.cross_tau2: must not exceed cross_tau1");
     EXPECT_EQ(errorOf(R"({"stereo": {"sgbm_block_size": 4}})"), "test.json: stereo.sgbm_block_size: must be odd");
+    EXPECT_EQ(parseConfig(R"({"stereo": {"right_view_scanline_directions": 8}})", "test.json")
+                  .stereo.rightViewScanlineDirections,
+              8);
+    EXPECT_EQ(errorOf(R"({"stereo": {"right_view_scanline_directions": 6}})"),
+              "test.json: stereo.right_view_scanline_directions: must be 4 or 8");
     EXPECT_EQ(errorOf(R"({"stereo": {"alpha": 2}})"), "test.json: stereo.alpha: unknown key");
 }
 

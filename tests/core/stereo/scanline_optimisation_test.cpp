@@ -1,4 +1,5 @@
 #include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
 
 #include "core/stereo/stages.hpp"
 #include "tests/core/stereo/stereo_test_images.hpp"
@@ -50,20 +51,47 @@ TEST(ScanlineStep, EachPenaltyCase) {
 }
 
 TEST(ScanlineOptimisation, OptimisedEqualsReference) {
-    const cv::Mat image = test::randomImage(631, 479, CV_8UC3, 5);
-    for (int disparities : {11, 16}) {
-        CostVolume costs;
-        costs.create(631, 479, disparities);
-        cv::RNG rng(6);
-        for (auto& c : costs.data) c = static_cast<std::uint16_t>(rng.uniform(0, 3 * kCostScale + 1));
-        for (int y = 0; y < 479; ++y)
-            for (int x = 0; x < 631; ++x) std::fill(costs.at(x, y) + disparities, costs.at(x, y) + costs.stride, kPadCost);
-        const ScanlinePenalties penalties = scanlinePenalties(Parameters{});
-        CostVolume fast, plain;
-        aggregateScanlines(costs, image, penalties, fast);
-        aggregateScanlinesReference(costs, image, penalties, plain);
-        EXPECT_EQ(fast.data, plain.data) << disparities;
-    }
+    // Raw noise has almost every colour difference above τ_SO; blurred, all three penalty cases
+    // occur, on every direction.
+    const cv::Mat noise = test::randomImage(631, 479, CV_8UC3, 5);
+    cv::Mat smooth;
+    cv::GaussianBlur(noise, smooth, cv::Size(0, 0), 2.0);
+    for (const cv::Mat& image : {noise, smooth})
+        for (int disparities : {11, 16, 40})
+            for (int directions : {8, 4}) {
+                CostVolume costs;
+                costs.create(631, 479, disparities);
+                cv::RNG rng(6);
+                for (auto& c : costs.data) c = static_cast<std::uint16_t>(rng.uniform(0, 3 * kCostScale + 1));
+                for (int y = 0; y < 479; ++y)
+                    for (int x = 0; x < 631; ++x)
+                        std::fill(costs.at(x, y) + disparities, costs.at(x, y) + costs.stride, kPadCost);
+                const ScanlinePenalties penalties = scanlinePenalties(Parameters{});
+                CostVolume fast, plain;
+                aggregateScanlines(costs, image, penalties, fast, directions);
+                aggregateScanlinesReference(costs, image, penalties, plain, directions);
+                EXPECT_EQ(fast.data, plain.data) << disparities << " disparities, " << directions << " directions";
+            }
+}
+
+TEST(ScanlineOptimisation, FourDirectionsLeaveOutTheDiagonals) {
+    // A flat image (every penalty case 0) and zero cost except a column of high cost at x = 4,
+    // d = 3. At (5, 4), d = 3, each path arriving from column 4 pays P1 to leave that cost
+    // (stepping to d = 2 or 4, where it is free); paths from elsewhere pay nothing. With the axes
+    // alone only left-to-right comes from column 4; with all 8, the two diagonals from the upper
+    // and lower left do too.
+    const cv::Mat image(9, 9, CV_8UC3, cv::Scalar(100, 100, 100));
+    CostVolume costs;
+    costs.create(9, 9, 8);
+    std::fill(costs.data.begin(), costs.data.end(), std::uint16_t{0});
+    for (int y = 0; y < 9; ++y) costs.at(4, y)[3] = 3 * kCostScale;  // above P1, below P2
+    const ScanlinePenalties penalties = scanlinePenalties(Parameters{});
+    CostVolume four, eight;
+    aggregateScanlines(costs, image, penalties, four, 4);
+    aggregateScanlines(costs, image, penalties, eight, 8);
+    EXPECT_EQ(four.at(5, 4)[3], penalties.p1[0]);
+    EXPECT_EQ(eight.at(5, 4)[3], 3 * penalties.p1[0]);
+    EXPECT_THROW(aggregateScanlines(costs, image, penalties, four, 6), cv::Exception);
 }
 
 }  // namespace
