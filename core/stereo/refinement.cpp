@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/common/simd.hpp"
 #include "core/stereo/matcher.hpp"
 #include "core/stereo/stages.hpp"
 
@@ -217,8 +218,8 @@ bool straddlesDepthEdge(const cv::Mat& disparity, int x, int y, int radius) {
 
 }  // namespace
 
-void refineSubpixelByIntensity(const cv::Mat& greyLeft, const cv::Mat& greyRight, int radius, int iterations,
-                               float maxChange, cv::Mat& disparity) {
+void refineSubpixelByIntensityReference(const cv::Mat& greyLeft, const cv::Mat& greyRight, int radius,
+                                        int iterations, float maxChange, cv::Mat& disparity) {
     CV_Assert(greyLeft.type() == CV_32FC1 && greyRight.type() == CV_32FC1 && disparity.type() == CV_32FC1);
     const int width = greyLeft.cols, height = greyLeft.rows;
     const int side = 2 * radius + 1;
@@ -279,6 +280,102 @@ void refineSubpixelByIntensity(const cv::Mat& greyLeft, const cv::Mat& greyRight
                     const float step = covEG / varG;
                     d -= step;
                     if (std::abs(step) < 0.005f) break;  // converged far below any use of it
+                }
+                if (ok && std::abs(d - start) <= maxChange) out[x] = d;
+            }
+        }
+    });
+}
+
+// The optimised kernel: the window's rows a vector at a time (cv::v_float32, lanes past the
+// window's width masked to 0). The right image's x-derivative is precomputed once,
+// g(i) = (R(i+1) - R(i-1)) / 2, so that the interpolated sample and derivative at x0 + t are both
+// lerps of neighbouring values: R(x0) + t (R(x0+1) - R(x0)) and g(x0) + t (g(x0+1) - g(x0)), the
+// reference's expressions rearranged. Images are copied into rows padded by one vector so that
+// whole-vector loads at the window's right edge stay inside.
+void refineSubpixelByIntensity(const cv::Mat& greyLeft, const cv::Mat& greyRight, int radius, int iterations,
+                               float maxChange, cv::Mat& disparity) {
+    CV_Assert(greyLeft.type() == CV_32FC1 && greyRight.type() == CV_32FC1 && disparity.type() == CV_32FC1);
+    CV_Assert(greyLeft.size() == greyRight.size() && greyLeft.size() == disparity.size() && radius >= 1);
+    constexpr int kLanes = cv::v_float32::nlanes;
+    const int width = greyLeft.cols, height = greyLeft.rows;
+    const int side = 2 * radius + 1;
+    const int chunks = (side + kLanes - 1) / kLanes;
+    const float count = static_cast<float>(side * side);
+
+    // Padded copies (reallocated only when the size changes). The stripes below run on other
+    // threads, which must see the caller's buffers, not thread_local ones of their own: hence
+    // the references.
+    thread_local cv::Mat paddedLeft, paddedRight, paddedDerivative;
+    cv::Mat& left = paddedLeft;
+    cv::Mat& right = paddedRight;
+    cv::Mat& derivative = paddedDerivative;
+    const int paddedWidth = width + kLanes + 1;
+    for (cv::Mat* m : {&left, &right, &derivative}) {
+        m->create(height, paddedWidth, CV_32FC1);
+        (*m)(cv::Rect(width, 0, paddedWidth - width, height)).setTo(0.0f);
+    }
+    greyLeft.copyTo(left(cv::Rect(0, 0, width, height)));
+    greyRight.copyTo(right(cv::Rect(0, 0, width, height)));
+    for (int y = 0; y < height; ++y) {
+        const float* r = right.ptr<float>(y);
+        float* g = derivative.ptr<float>(y);
+        g[0] = 0.0f;
+        for (int x = 1; x + 1 < width; ++x) g[x] = 0.5f * (r[x + 1] - r[x - 1]);
+        if (width > 1) g[width - 1] = 0.0f;
+    }
+    // Lane masks of the window's columns, chunk by chunk.
+    std::vector<float> maskValues(static_cast<std::size_t>(chunks * kLanes));
+    for (int i = 0; i < chunks * kLanes; ++i) maskValues[static_cast<std::size_t>(i)] = i < side ? 1.0f : 0.0f;
+
+    const cv::Mat fitted = disparity.clone();  // as in the reference: rows being refined change
+    forEachStripe(height, [&](int, int begin, int end) {
+        for (int y = begin; y < end; ++y) {
+            if (y < radius || y + radius >= height) continue;
+            float* out = disparity.ptr<float>(y);
+            for (int x = radius; x + radius < width; ++x) {
+                const float start = out[x];
+                if (start < 0.0f || straddlesDepthEdge(fitted, x, y, radius)) continue;
+                float d = start;
+                bool ok = true;
+                for (int iteration = 0; iteration < iterations && ok; ++iteration) {
+                    const float xr = static_cast<float>(x) - d;
+                    const int x0 = static_cast<int>(std::floor(xr));
+                    const float t = xr - static_cast<float>(x0);
+                    if (x0 - radius - 1 < 0 || x0 + radius + 2 >= width) {
+                        ok = false;
+                        break;
+                    }
+                    const cv::v_float32 vt = cv::vx_setall_f32(t);
+                    cv::v_float32 sumE = cv::vx_setzero_f32(), sumG = cv::vx_setzero_f32();
+                    cv::v_float32 sumEG = cv::vx_setzero_f32(), sumGG = cv::vx_setzero_f32();
+                    for (int dy = -radius; dy <= radius; ++dy) {
+                        const float* l = left.ptr<float>(y + dy) + x - radius;
+                        const float* r = right.ptr<float>(y + dy) + x0 - radius;
+                        const float* g = derivative.ptr<float>(y + dy) + x0 - radius;
+                        for (int c = 0; c < chunks * kLanes; c += kLanes) {
+                            const cv::v_float32 mask = cv::vx_load(maskValues.data() + c);
+                            const cv::v_float32 r0 = cv::vx_load(r + c), r1 = cv::vx_load(r + c + 1);
+                            const cv::v_float32 g0 = cv::vx_load(g + c), g1 = cv::vx_load(g + c + 1);
+                            const cv::v_float32 value = cv::v_fma(vt, r1 - r0, r0);
+                            const cv::v_float32 gradient = cv::v_fma(vt, g1 - g0, g0) * mask;
+                            const cv::v_float32 e = (cv::vx_load(l + c) - value) * mask;
+                            sumE += e;
+                            sumG += gradient;
+                            sumEG = cv::v_fma(e, gradient, sumEG);
+                            sumGG = cv::v_fma(gradient, gradient, sumGG);
+                        }
+                    }
+                    const float sE = cv::v_reduce_sum(sumE), sG = cv::v_reduce_sum(sumG);
+                    const float varG = cv::v_reduce_sum(sumGG) - sG * sG / count;
+                    if (varG < 1e-3f * count) {
+                        ok = false;  // no texture: the fit is all there is
+                        break;
+                    }
+                    const float covEG = cv::v_reduce_sum(sumEG) - sE * sG / count;
+                    const float step = covEG / varG;
+                    d -= step;
+                    if (std::abs(step) < 0.005f) break;
                 }
                 if (ok && std::abs(d - start) <= maxChange) out[x] = d;
             }

@@ -161,6 +161,41 @@ TEST(Subpixel, IntensityRefinementStopsAtDepthEdges) {
     for (int x : {20, 30, 37, 46, 60}) EXPECT_NEAR(disparity.at<float>(y, x), 3.25f, 0.1f) << x;  // 8-bit images
 }
 
+TEST(Subpixel, IntensityRefinementOptimisedMatchesReference) {
+    // A smooth random texture seen 4.4 px to the left, started from noisy integer-ish values with
+    // a few invalid pixels and depth edges, at an awkward size and three window radii. The kernels
+    // sum in different orders, so they agree to float rounding: a pixel whose decision sits on a
+    // threshold (converged, textureless, too far) may go the other way, hardly any may.
+    cv::Mat texture = test::randomImage(131, 47, CV_8UC1, 9);
+    cv::GaussianBlur(texture, texture, cv::Size(0, 0), 1.2);
+    cv::Mat right;
+    const cv::Mat shift = (cv::Mat_<double>(2, 3) << 1, 0, -4.4, 0, 1, 0);
+    cv::warpAffine(texture, right, shift, texture.size(), cv::INTER_LINEAR, cv::BORDER_REFLECT);
+    cv::Mat greyLeft, greyRight;
+    texture.convertTo(greyLeft, CV_32F);
+    right.convertTo(greyRight, CV_32F);
+    cv::Mat start(texture.size(), CV_32FC1);
+    cv::RNG rng(3);
+    for (int y = 0; y < start.rows; ++y)
+        for (int x = 0; x < start.cols; ++x) {
+            start.at<float>(y, x) = rng.uniform(0, 500) == 0 ? -1.0f : 4.4f + static_cast<float>(rng.uniform(-0.3, 0.3));
+        }
+    start.colRange(70, 73).setTo(12.0f);
+    for (int radius : {1, 2, 3}) {
+        cv::Mat fast = start.clone(), plain = start.clone();
+        refineSubpixelByIntensity(greyLeft, greyRight, radius, 2, 0.5f, fast);
+        refineSubpixelByIntensityReference(greyLeft, greyRight, radius, 2, 0.5f, plain);
+        int differing = 0, refined = 0;
+        for (int y = 0; y < start.rows; ++y)
+            for (int x = 0; x < start.cols; ++x) {
+                if (std::abs(fast.at<float>(y, x) - plain.at<float>(y, x)) > 1e-3f) ++differing;
+                if (plain.at<float>(y, x) != start.at<float>(y, x)) ++refined;
+            }
+        EXPECT_GT(refined, static_cast<int>(start.total() / 2)) << radius;  // the comparison means something
+        EXPECT_LE(differing, static_cast<int>(start.total() / 1000)) << radius;
+    }
+}
+
 TEST(ImpulseFilter, RepairsOnlyImpulses) {
     // A vertical ramp (a clean structure that must survive) with one white and one black impulse.
     cv::Mat bgr(7, 7, CV_8UC3);
