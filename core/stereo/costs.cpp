@@ -5,9 +5,9 @@
 // indexed by the integer raw cost, built once per compute().
 //
 // The optimised kernel reverses the right row so that the right pixels x - d, d = 0, 1, ... are
-// contiguous: the absolute differences of colour and gradient then run 16 disparities per vector
-// (OpenCV universal intrinsics, SSE2 and NEON alike); the table lookups and the Census popcounts
-// stay scalar.
+// contiguous: the absolute differences of colour and gradient then run a vector of disparities at
+// a time (OpenCV universal intrinsics: 32 with AVX2, 16 with SSE or NEON); the table lookups and
+// the Census popcounts stay scalar.
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -112,7 +112,7 @@ void costReference(const Terms& terms, const CostInputs& left, const CostInputs&
         }
 }
 
-constexpr int kVec8 = cv::v_uint8x16::nlanes;
+constexpr int kVec8 = cv::v_uint8::nlanes;  // the widest vector: 32 with AVX2, 16 with SSE or NEON
 
 // Planar copies of a row, reversed, with kVec8 zero bytes after the end for whole-vector loads.
 struct ReversedRow {
@@ -135,14 +135,14 @@ struct ReversedRow {
 // Sum over three planes of |value_c - plane_c[j + i]|, i = 0..count-1, vectorised.
 void absSums(const std::vector<std::uint8_t>* planes, const std::uint8_t* value, std::size_t j, int count,
              std::uint16_t* out) {
-    const cv::v_uint8x16 v0 = cv::v_setall_u8(value[0]);
-    const cv::v_uint8x16 v1 = cv::v_setall_u8(value[1]);
-    const cv::v_uint8x16 v2 = cv::v_setall_u8(value[2]);
+    const cv::v_uint8 v0 = cv::vx_setall_u8(value[0]);
+    const cv::v_uint8 v1 = cv::vx_setall_u8(value[1]);
+    const cv::v_uint8 v2 = cv::vx_setall_u8(value[2]);
     for (int i = 0; i < count; i += kVec8) {
-        cv::v_uint16x8 lo0, hi0, lo1, hi1, lo2, hi2;
-        cv::v_expand(cv::v_absdiff(v0, cv::v_load(planes[0].data() + j + i)), lo0, hi0);
-        cv::v_expand(cv::v_absdiff(v1, cv::v_load(planes[1].data() + j + i)), lo1, hi1);
-        cv::v_expand(cv::v_absdiff(v2, cv::v_load(planes[2].data() + j + i)), lo2, hi2);
+        cv::v_uint16 lo0, hi0, lo1, hi1, lo2, hi2;
+        cv::v_expand(cv::v_absdiff(v0, cv::vx_load(planes[0].data() + j + i)), lo0, hi0);
+        cv::v_expand(cv::v_absdiff(v1, cv::vx_load(planes[1].data() + j + i)), lo1, hi1);
+        cv::v_expand(cv::v_absdiff(v2, cv::vx_load(planes[2].data() + j + i)), lo2, hi2);
         cv::v_store(out + i, lo0 + lo1 + lo2);
         cv::v_store(out + i + kVec8 / 2, hi0 + hi1 + hi2);
     }

@@ -5,8 +5,8 @@
 // The optimised kernel packs each candidate as (cost << 16) | d in 32 bits, so one unsigned
 // minimum finds the least cost and, among equal costs, the smallest disparity: the left view
 // reduces a pixel's packed candidates, the right view keeps a running packed minimum per right
-// pixel and updates 4 of them per vector (the candidates of left pixel x at d .. d+3 belong to the
-// right pixels x-d .. x-d-3, a reversed run).
+// pixel and updates a vector of them at once (with n lanes, the candidates of left pixel x at
+// d .. d+n-1 belong to the right pixels x-d .. x-d-n+1, a reversed run).
 #include <algorithm>
 
 #include "core/common/simd.hpp"
@@ -17,7 +17,9 @@ namespace icewatch::stereo::detail {
 
 namespace {
 
-constexpr int kLanes32 = cv::v_uint32x4::nlanes;
+constexpr int kLanes32 = cv::v_uint32::nlanes;  // the widest vector: 8 with AVX2, 4 with SSE or NEON
+alignas(64) constexpr std::uint32_t kLaneIndex[16] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15};
+static_assert(kLanes32 <= 16);
 constexpr std::uint32_t kNoCandidate = 0xFFFFFFFFu;
 
 // Scalar tail and the pixels near the left border, where fewer than `disparities` candidates are
@@ -38,7 +40,7 @@ void winnerTakesAllViews(const CostVolume& costs, cv::Mat& leftDisparity, cv::Ma
     if (rightDisparity) rightDisparity->create(costs.height, width, CV_16SC1);
     forEachStripe(costs.height, [&](int, int begin, int end) {
         std::vector<std::uint32_t> rightBest(static_cast<std::size_t>(width));
-        const cv::v_uint32x4 step = cv::v_setall_u32(kLanes32);
+        const cv::v_uint32 step = cv::vx_setall_u32(kLanes32);
         for (int y = begin; y < end; ++y) {
             auto* left = leftDisparity.ptr<std::int16_t>(y);
             std::fill(rightBest.begin(), rightBest.end(), kNoCandidate);
@@ -47,15 +49,15 @@ void winnerTakesAllViews(const CostVolume& costs, cv::Mat& leftDisparity, cv::Ma
                 const int valid = std::min(disparities, x + 1);
                 const int vectorEnd = valid / kLanes32 * kLanes32;
                 std::uint32_t leftBest = kNoCandidate;
-                cv::v_uint32x4 best = cv::v_setall_u32(kNoCandidate);
-                cv::v_uint32x4 index(0, 1, 2, 3);
+                cv::v_uint32 best = cv::vx_setall_u32(kNoCandidate);
+                cv::v_uint32 index = cv::vx_load(kLaneIndex);
                 for (int d = 0; d < vectorEnd; d += kLanes32) {
-                    const cv::v_uint32x4 packed = (cv::v_load_expand(c + d) << 16) | index;
+                    const cv::v_uint32 packed = (cv::vx_load_expand(c + d) << 16) | index;
                     best = cv::v_min(best, packed);
                     if (rightDisparity) {
-                        // Right pixels x-d-3 .. x-d in memory order are candidates d+3 .. d.
+                        // Right pixels x-d-n+1 .. x-d in memory order are candidates d+n-1 .. d.
                         std::uint32_t* r = rightBest.data() + (x - d - (kLanes32 - 1));
-                        cv::v_store(r, cv::v_min(cv::v_load(r), cv::v_reverse(packed)));
+                        cv::v_store(r, cv::v_min(cv::vx_load(r), cv::v_reverse(packed)));
                     }
                     index += step;
                 }
