@@ -54,7 +54,7 @@ cv::Mat leftRightCheck(const cv::Mat& leftDisparity, const cv::Mat& rightDispari
     return labels;
 }
 
-int regionVoting(const CrossArms& arms, const Parameters& parameters, cv::Mat& disparity, cv::Mat& labels) {
+int regionVotingReference(const CrossArms& arms, const Parameters& parameters, cv::Mat& disparity, cv::Mat& labels) {
     CV_Assert(disparity.type() == CV_16SC1 && labels.type() == CV_8UC1);
     double maxValue = 0.0;
     cv::minMaxLoc(disparity, nullptr, &maxValue);

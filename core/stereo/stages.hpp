@@ -185,8 +185,11 @@ enum PixelLabel : std::uint8_t { kReliable = 0, kOccluded = 1, kMismatched = 2 }
 cv::Mat leftRightCheck(const cv::Mat& leftDisparity, const cv::Mat& rightDisparity, int disparities,
                        int maxDifference);
 // Iterative region voting over the cross support regions; outliers that win a vote become
-// reliable. Returns how many pixels were filled.
+// reliable. Returns how many pixels were filled. The reference builds every outlier's histogram
+// pixel by pixel (refinement.cpp); the optimised kernel from column prefix sums
+// (region_voting.cpp). They give the same integers.
 int regionVoting(const CrossArms& arms, const Parameters& parameters, cv::Mat& disparity, cv::Mat& labels);
+int regionVotingReference(const CrossArms& arms, const Parameters& parameters, cv::Mat& disparity, cv::Mat& labels);
 // Fills the remaining outliers along their row: occluded from the background (left) side,
 // mismatched with the smaller of the nearest reliable left and right disparities.
 void interpolateOutliers(cv::Mat& disparity, cv::Mat& labels);
