@@ -101,6 +101,7 @@ void readStereo(Section s, stereo::Parameters& p) {
     s.read("noise_smoothing_gain", p.noiseSmoothingGain, 0.0, 10.0);
     s.read("census_gradient_threshold", p.censusGradientThreshold, 0.0, 1000.0);
     s.read("census_alpha", p.censusAlpha, 0, 64);
+    s.read("census_alpha_noise_gain", p.censusAlphaNoiseGain, 0.0, 10.0);
     s.read("canny_low_threshold", p.cannyLowThreshold, 0.0, 10000.0);
     s.read("canny_high_threshold", p.cannyHighThreshold, 0.0, 10000.0);
     if (p.cannyHighThreshold < p.cannyLowThreshold) {

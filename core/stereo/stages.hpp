@@ -87,6 +87,9 @@ double estimateNoiseSigma(const cv::Mat& grey);
 // Blurs bgr (CV_8UC3) with a Gaussian of sigma = clamp(gain * (noise - 1), 0, 0.8) when that is
 // above 0.2 and recomputes grey from it; returns the sigma used (0: image left alone).
 double smoothNoise(cv::Mat& bgr, cv::Mat& grey, double gain);
+// The Census band for both eyes: max(alpha, round(gain * mean of the two noise estimates));
+// gain 0 returns alpha.
+int noiseAdaptiveCensusAlpha(int alpha, double gain, double noiseLeft, double noiseRight);
 
 // ---- census.cpp -------------------------------------------------------------------------------
 // Improved Census (Paper): per neighbour a four-bit nibble [brighter, darker, edge, corner], 16

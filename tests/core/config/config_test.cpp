@@ -47,6 +47,7 @@ TEST(Config, ShippedFileDocumentsTheDefaults) {
     EXPECT_EQ(a.impulseThreshold, b.impulseThreshold);
     EXPECT_EQ(a.censusGradientThreshold, b.censusGradientThreshold);
     EXPECT_EQ(a.censusAlpha, b.censusAlpha);
+    EXPECT_EQ(a.censusAlphaNoiseGain, b.censusAlphaNoiseGain);
     EXPECT_EQ(a.cannyLowThreshold, b.cannyLowThreshold);
     EXPECT_EQ(a.cannyHighThreshold, b.cannyHighThreshold);
     EXPECT_EQ(a.harrisThreshold, b.harrisThreshold);
