@@ -98,6 +98,7 @@ void readVolume(Section s, volume::Parameters& v) {
 
 void readStereo(Section s, stereo::Parameters& p) {
     s.read("impulse_threshold", p.impulseThreshold, 0, 255);
+    s.read("impulse_rail_threshold", p.impulseRailThreshold, 0, 255);
     s.read("noise_smoothing_gain", p.noiseSmoothingGain, 0.0, 10.0);
     s.read("census_gradient_threshold", p.censusGradientThreshold, 0.0, 1000.0);
     s.read("census_alpha", p.censusAlpha, 0, 64);

@@ -77,8 +77,10 @@ void forEachStripe(int count, const F& fn) {
 // ---- impulse_filter.cpp -----------------------------------------------------------------------
 // Switching median: a pixel whose grey value differs from its 3x3 median by more than threshold
 // (an impulse: a dead, hot or bit-flipped pixel) takes the median colour; all others are kept.
+// An isolated pixel at 0 or 255 (no 8-neighbour at its value: a dead or saturated sensor pixel)
+// needs to differ by more than railThreshold only (0: no such rule).
 // bgr CV_8UC3 and its grey version, both filtered in place. Returns the number replaced.
-int removeImpulses(cv::Mat& bgr, cv::Mat& grey, int threshold);
+int removeImpulses(cv::Mat& bgr, cv::Mat& grey, int threshold, int railThreshold = 0);
 
 // ---- noise_smoothing.cpp ------------------------------------------------------------------------
 // Sensor noise level of a grey image, grey levels (Immerkær's estimator over 8x8 blocks, 5th

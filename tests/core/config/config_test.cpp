@@ -45,6 +45,7 @@ TEST(Config, ShippedFileDocumentsTheDefaults) {
     const stereo::Parameters& a = shipped.stereo;
     const stereo::Parameters& b = defaults.stereo;
     EXPECT_EQ(a.impulseThreshold, b.impulseThreshold);
+    EXPECT_EQ(a.impulseRailThreshold, b.impulseRailThreshold);
     EXPECT_EQ(a.censusGradientThreshold, b.censusGradientThreshold);
     EXPECT_EQ(a.censusAlpha, b.censusAlpha);
     EXPECT_EQ(a.censusAlphaNoiseGain, b.censusAlphaNoiseGain);
