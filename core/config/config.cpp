@@ -98,9 +98,11 @@ void readVolume(Section s, volume::Parameters& v) {
 
 void readStereo(Section s, stereo::Parameters& p) {
     s.read("impulse_threshold", p.impulseThreshold, 0, 255);
+    s.read("impulse_rail_threshold", p.impulseRailThreshold, 0, 255);
     s.read("noise_smoothing_gain", p.noiseSmoothingGain, 0.0, 10.0);
     s.read("census_gradient_threshold", p.censusGradientThreshold, 0.0, 1000.0);
     s.read("census_alpha", p.censusAlpha, 0, 64);
+    s.read("census_alpha_noise_gain", p.censusAlphaNoiseGain, 0.0, 10.0);
     s.read("canny_low_threshold", p.cannyLowThreshold, 0.0, 10000.0);
     s.read("canny_high_threshold", p.cannyHighThreshold, 0.0, 10000.0);
     if (p.cannyHighThreshold < p.cannyLowThreshold) {

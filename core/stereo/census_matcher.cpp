@@ -34,30 +34,43 @@ cv::Mat CensusMatcher::compute(const cv::Mat& left, const cv::Mat& right, int ma
     costs_.create(left.cols, left.rows, maxDisparity);
 
     // 1. Per eye: impulse repair and noise-adaptive smoothing, then what the matching cost needs of
-    //    the image. The two eyes are independent, so they run as two tasks side by side (the
-    //    stages inside run serially then; their results do not depend on it).
+    //    the image. The two eyes run as two tasks side by side (the stages inside run serially
+    //    then; their results do not depend on it), in two rounds: the Census band depends on the
+    //    noise of both.
     CostInputs leftInputs{{}, {}, {}, &leftCensus_};
     CostInputs rightInputs{{}, {}, {}, &rightCensus_};
-    auto prepareEye = [&](bool isLeft) {
+    double noise[2] = {0.0, 0.0};
+    auto cleanEye = [&](bool isLeft) {
+        cv::Mat& bgr = isLeft ? bgrLeft : bgrRight;
+        cv::Mat& grey = isLeft ? greyLeft : greyRight;
+        if (p.impulseThreshold > 0) removeImpulses(bgr, grey, p.impulseThreshold, p.impulseRailThreshold);
+        smoothNoise(bgr, grey, p.noiseSmoothingGain);
+        // The noise the Census band has to absorb is what the smoothing left.
+        if (method_ == Method::Paper && p.censusAlphaNoiseGain > 0.0) noise[isLeft ? 0 : 1] = estimateNoiseSigma(grey);
+    };
+    auto prepareEye = [&](bool isLeft, int alpha) {
         cv::Mat& bgr = isLeft ? bgrLeft : bgrRight;
         cv::Mat& grey = isLeft ? greyLeft : greyRight;
         CostInputs& inputs = isLeft ? leftInputs : rightInputs;
         CensusImage& census = isLeft ? leftCensus_ : rightCensus_;
-        if (p.impulseThreshold > 0) removeImpulses(bgr, grey, p.impulseThreshold);
-        smoothNoise(bgr, grey, p.noiseSmoothingGain);
         inputs.bgr = bgr;
         if (method_ == Method::Paper) {
             // Improved Census: window by gradient (left only: the left pixel decides, the right
             // image carries both codes), edge and corner bits; the gradient term's magnitudes.
             if (isLeft) inputs.windowMask = censusWindowMask(grey, p.censusGradientThreshold);
-            improvedCensus(grey, edgeCornerBits(grey, p), p.censusAlpha, inputs.windowMask, census);
+            improvedCensus(grey, edgeCornerBits(grey, p), alpha, inputs.windowMask, census);
             inputs.gradient = channelGradientMagnitudes(bgr);
         } else {
             meiCensus(grey, census);
         }
     };
     cv::parallel_for_(cv::Range(0, 2), [&](const cv::Range& r) {
-        for (int eye = r.start; eye < r.end; ++eye) prepareEye(eye == 0);
+        for (int eye = r.start; eye < r.end; ++eye) cleanEye(eye == 0);
+    }, 2);
+    // Both eyes' codes with one band, so the eyes must meet here.
+    const int alpha = noiseAdaptiveCensusAlpha(p.censusAlpha, p.censusAlphaNoiseGain, noise[0], noise[1]);
+    cv::parallel_for_(cv::Range(0, 2), [&](const cv::Range& r) {
+        for (int eye = r.start; eye < r.end; ++eye) prepareEye(eye == 0, alpha);
     }, 2);
 
     // 2. Matching cost per pixel and disparity.

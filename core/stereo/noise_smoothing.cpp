@@ -54,4 +54,12 @@ double smoothNoise(cv::Mat& bgr, cv::Mat& grey, double gain) {
     return sigma;
 }
 
+int noiseAdaptiveCensusAlpha(int alpha, double gain, double noiseLeft, double noiseRight) {
+    if (gain <= 0.0) return alpha;
+    // One band for both eyes (codes made with different bands do not compare), from their mean
+    // noise; capped where the band would swallow all but the strongest texture.
+    const double band = std::min(gain * 0.5 * (noiseLeft + noiseRight), 32.0);
+    return std::max(alpha, static_cast<int>(std::lround(band)));
+}
+
 }  // namespace icewatch::stereo::detail

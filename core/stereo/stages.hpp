@@ -77,8 +77,10 @@ void forEachStripe(int count, const F& fn) {
 // ---- impulse_filter.cpp -----------------------------------------------------------------------
 // Switching median: a pixel whose grey value differs from its 3x3 median by more than threshold
 // (an impulse: a dead, hot or bit-flipped pixel) takes the median colour; all others are kept.
+// An isolated pixel at 0 or 255 (no 8-neighbour at its value: a dead or saturated sensor pixel)
+// needs to differ by more than railThreshold only (0: no such rule).
 // bgr CV_8UC3 and its grey version, both filtered in place. Returns the number replaced.
-int removeImpulses(cv::Mat& bgr, cv::Mat& grey, int threshold);
+int removeImpulses(cv::Mat& bgr, cv::Mat& grey, int threshold, int railThreshold = 0);
 
 // ---- noise_smoothing.cpp ------------------------------------------------------------------------
 // Sensor noise level of a grey image, grey levels (Immerkær's estimator over 8x8 blocks, 5th
@@ -87,6 +89,9 @@ double estimateNoiseSigma(const cv::Mat& grey);
 // Blurs bgr (CV_8UC3) with a Gaussian of sigma = clamp(gain * (noise - 1), 0, 0.8) when that is
 // above 0.2 and recomputes grey from it; returns the sigma used (0: image left alone).
 double smoothNoise(cv::Mat& bgr, cv::Mat& grey, double gain);
+// The Census band for both eyes: max(alpha, round(gain * mean of the two noise estimates));
+// gain 0 returns alpha.
+int noiseAdaptiveCensusAlpha(int alpha, double gain, double noiseLeft, double noiseRight);
 
 // ---- census.cpp -------------------------------------------------------------------------------
 // Improved Census (Paper): per neighbour a four-bit nibble [brighter, darker, edge, corner], 16

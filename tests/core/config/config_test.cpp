@@ -45,8 +45,10 @@ TEST(Config, ShippedFileDocumentsTheDefaults) {
     const stereo::Parameters& a = shipped.stereo;
     const stereo::Parameters& b = defaults.stereo;
     EXPECT_EQ(a.impulseThreshold, b.impulseThreshold);
+    EXPECT_EQ(a.impulseRailThreshold, b.impulseRailThreshold);
     EXPECT_EQ(a.censusGradientThreshold, b.censusGradientThreshold);
     EXPECT_EQ(a.censusAlpha, b.censusAlpha);
+    EXPECT_EQ(a.censusAlphaNoiseGain, b.censusAlphaNoiseGain);
     EXPECT_EQ(a.cannyLowThreshold, b.cannyLowThreshold);
     EXPECT_EQ(a.cannyHighThreshold, b.cannyHighThreshold);
     EXPECT_EQ(a.harrisThreshold, b.harrisThreshold);

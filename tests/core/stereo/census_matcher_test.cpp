@@ -17,12 +17,12 @@ namespace {
 constexpr int kSupersample = 8;
 
 // Bars for the Middlebury regression (percent bad > 1 px, nonocc, default parameters). Measured
-// with `icewatch eval`: paper 3.27 (Cones) and 4.82 (Teddy), average 4.05; AD-Census average 3.53.
+// with `icewatch eval`: paper 3.14 (Cones) and 4.82 (Teddy), average 3.98; AD-Census average 3.53.
 // The target, 3.97 for the paper's method, is not reached yet; these bars sit just above
 // what is, to catch any regression.
-constexpr double kPaperConesBar = 3.4;
+constexpr double kPaperConesBar = 3.25;
 constexpr double kPaperTeddyBar = 5.0;
-constexpr double kPaperAverageBar = 4.2;
+constexpr double kPaperAverageBar = 4.1;
 constexpr double kAdCensusAverageBar = 3.7;
 
 // A textured pair whose right eye is the left shifted by shiftEighths / 8 px: both are rendered

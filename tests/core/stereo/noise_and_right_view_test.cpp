@@ -34,6 +34,17 @@ TEST(NoiseSmoothing, EstimatesTheNoiseOfAFlatImage) {
     EXPECT_NEAR(eight / four, 2.0, 0.2);
 }
 
+TEST(NoiseSmoothing, CensusBandFollowsTheNoiseOfBothEyes) {
+    EXPECT_EQ(noiseAdaptiveCensusAlpha(1, 0.0, 5.0, 5.0), 1);   // off
+    EXPECT_EQ(noiseAdaptiveCensusAlpha(1, 1.5, 0.7, 0.7), 1);   // a clean camera keeps the band
+    EXPECT_EQ(noiseAdaptiveCensusAlpha(2, 1.5, 0.2, 0.2), 2);   // never below the configured one
+    EXPECT_EQ(noiseAdaptiveCensusAlpha(1, 1.5, 1.2, 1.3), 2);
+    EXPECT_EQ(noiseAdaptiveCensusAlpha(1, 1.5, 1.8, 1.8), 3);
+    // One band from the mean, whichever eye is noisier.
+    EXPECT_EQ(noiseAdaptiveCensusAlpha(1, 1.5, 0.4, 3.6), noiseAdaptiveCensusAlpha(1, 1.5, 3.6, 0.4));
+    EXPECT_EQ(noiseAdaptiveCensusAlpha(1, 1.5, 1000.0, 1000.0), 32);  // capped
+}
+
 TEST(NoiseSmoothing, BlursOnlyNoisyImages) {
     cv::Mat grey = noisyRamp(0.0, 4), bgr;
     cv::cvtColor(grey, bgr, cv::COLOR_GRAY2BGR);

@@ -246,5 +246,22 @@ TEST(ImpulseFilter, RepairsOnlyImpulses) {
     EXPECT_EQ(removeImpulses(bgr, grey, 40), 0);
 }
 
+TEST(ImpulseFilter, IsolatedRailPixelsNeedLessContrast) {
+    // A bright flat wall: a white impulse on it is only 35 levels from its median, below the
+    // general threshold; a two-pixel highlight at 255 is a plateau, not an impulse.
+    cv::Mat bgr(9, 9, CV_8UC3, cv::Scalar::all(220));
+    bgr.at<cv::Vec3b>(2, 2) = {255, 255, 255};
+    bgr.at<cv::Vec3b>(6, 5) = {255, 255, 255};
+    bgr.at<cv::Vec3b>(6, 6) = {255, 255, 255};
+    cv::Mat grey;
+    cv::cvtColor(bgr, grey, cv::COLOR_BGR2GRAY);
+    cv::Mat bgrCopy = bgr.clone(), greyCopy = grey.clone();
+    EXPECT_EQ(removeImpulses(bgrCopy, greyCopy, 40), 0);
+    EXPECT_EQ(removeImpulses(bgr, grey, 40, 10), 1);
+    EXPECT_EQ(bgr.at<cv::Vec3b>(2, 2), cv::Vec3b::all(220));
+    EXPECT_EQ(bgr.at<cv::Vec3b>(6, 5), cv::Vec3b::all(255));
+    EXPECT_EQ(bgr.at<cv::Vec3b>(6, 6), cv::Vec3b::all(255));
+}
+
 }  // namespace
 }  // namespace icewatch::stereo::detail
