@@ -59,13 +59,9 @@ int regionVotingReference(const CrossArms& arms, const Parameters& parameters, c
     double maxValue = 0.0;
     cv::minMaxLoc(disparity, nullptr, &maxValue);
     const int bins = static_cast<int>(maxValue) + 1;
-    int filledTotal = 0;
-    for (int iteration = 0; iteration < parameters.votingIterations; ++iteration) {
-        // Jacobi style: votes read the previous iteration's map, so the result does not depend on
-        // the order (or the thread) in which pixels are visited.
-        const cv::Mat before = disparity.clone();
-        const cv::Mat labelsBefore = labels.clone();
-        std::vector<int> filledPerStripe(kStripes, 0);
+    return iterateVoting(parameters.votingIterations, disparity, labels, [&](const cv::Mat& before,
+                                                                             const cv::Mat& labelsBefore,
+                                                                             std::vector<int>& filledPerStripe) {
         forEachStripe(disparity.rows, [&](int stripe, int begin, int end) {
             std::vector<int> histogram(static_cast<std::size_t>(bins));
             for (int y = begin; y < end; ++y)
@@ -91,12 +87,7 @@ int regionVotingReference(const CrossArms& arms, const Parameters& parameters, c
                     ++filledPerStripe[static_cast<std::size_t>(stripe)];
                 }
         });
-        int filled = 0;
-        for (int f : filledPerStripe) filled += f;
-        filledTotal += filled;
-        if (filled == 0) break;
-    }
-    return filledTotal;
+    });
 }
 
 void interpolateOutliers(cv::Mat& disparity, cv::Mat& labels) {
@@ -216,12 +207,17 @@ bool straddlesDepthEdge(const cv::Mat& disparity, int x, int y, int radius) {
     return false;
 }
 
-}  // namespace
+// Window sums of one Gauss-Newton step: residual e = I_L - I_R(x - d) and right x-derivative g.
+struct WindowSums {
+    float e = 0.0f, g = 0.0f, eg = 0.0f, gg = 0.0f;
+};
 
-void refineSubpixelByIntensityReference(const cv::Mat& greyLeft, const cv::Mat& greyRight, int radius,
-                                        int iterations, float maxChange, cv::Mat& disparity) {
-    CV_Assert(greyLeft.type() == CV_32FC1 && greyRight.type() == CV_32FC1 && disparity.type() == CV_32FC1);
-    const int width = greyLeft.cols, height = greyLeft.rows;
+// The pixel loop both kernels share. sums(x, y, x0, t) returns the window sums with the right
+// image sampled at x0 + t + dx (0 <= t < 1); everything else (which pixels, when to stop, what
+// to keep) is decided here, once.
+template <class Sums>
+void refineEachPixel(int width, int height, int radius, int iterations, float maxChange, cv::Mat& disparity,
+                     const Sums& sums) {
     const int side = 2 * radius + 1;
     const float count = static_cast<float>(side * side);
     // The window must see one surface: where it straddles a depth edge (a disparity in it more
@@ -230,23 +226,15 @@ void refineSubpixelByIntensityReference(const cv::Mat& greyLeft, const cv::Mat& 
     // being refined are changing.
     const cv::Mat fitted = disparity.clone();
     forEachStripe(height, [&](int, int begin, int end) {
-        std::vector<float> leftValues(static_cast<std::size_t>(side * side));
         for (int y = begin; y < end; ++y) {
             if (y < radius || y + radius >= height) continue;
             float* out = disparity.ptr<float>(y);
             for (int x = radius; x + radius < width; ++x) {
                 const float start = out[x];
                 if (start < 0.0f || straddlesDepthEdge(fitted, x, y, radius)) continue;
-                for (int dy = -radius, k = 0; dy <= radius; ++dy) {
-                    const float* row = greyLeft.ptr<float>(y + dy);
-                    for (int dx = -radius; dx <= radius; ++dx, ++k) {
-                        leftValues[static_cast<std::size_t>(k)] = row[x + dx];
-                    }
-                }
                 float d = start;
                 bool ok = true;
                 for (int iteration = 0; iteration < iterations && ok; ++iteration) {
-                    // Right samples at x + dx - d and their x-derivative, linearly interpolated.
                     const float xr = static_cast<float>(x) - d;
                     const int x0 = static_cast<int>(std::floor(xr));
                     const float t = xr - static_cast<float>(x0);
@@ -254,28 +242,15 @@ void refineSubpixelByIntensityReference(const cv::Mat& greyLeft, const cv::Mat& 
                         ok = false;
                         break;
                     }
-                    float sumG = 0.0f, sumEG = 0.0f, sumGG = 0.0f, sumE = 0.0f;
-                    for (int dy = -radius, k = 0; dy <= radius; ++dy) {
-                        const float* row = greyRight.ptr<float>(y + dy);
-                        for (int dx = -radius; dx <= radius; ++dx, ++k) {
-                            const int i = x0 + dx;
-                            const float value = row[i] + t * (row[i + 1] - row[i]);
-                            const float gradient = 0.5f * ((row[i + 1] - row[i - 1]) + t * ((row[i + 2] - row[i]) - (row[i + 1] - row[i - 1])));
-                            const float e = leftValues[static_cast<std::size_t>(k)] - value;
-                            sumE += e;
-                            sumG += gradient;
-                            sumEG += e * gradient;
-                            sumGG += gradient * gradient;
-                        }
-                    }
+                    const WindowSums w = sums(x, y, x0, t);
                     // Zero-mean residual and gradient: a brightness offset between the eyes
                     // must not move the estimate.
-                    const float varG = sumGG - sumG * sumG / count;
+                    const float varG = w.gg - w.g * w.g / count;
                     if (varG < 1e-3f * count) {
                         ok = false;  // no texture: the fit is all there is
                         break;
                     }
-                    const float covEG = sumEG - sumE * sumG / count;
+                    const float covEG = w.eg - w.e * w.g / count;
                     // I_L(x) = I_R(x - d - δ) ≈ I_R - δ g: the residual e = -δ g.
                     const float step = covEG / varG;
                     d -= step;
@@ -285,6 +260,34 @@ void refineSubpixelByIntensityReference(const cv::Mat& greyLeft, const cv::Mat& 
             }
         }
     });
+}
+
+}  // namespace
+
+void refineSubpixelByIntensityReference(const cv::Mat& greyLeft, const cv::Mat& greyRight, int radius,
+                                        int iterations, float maxChange, cv::Mat& disparity) {
+    CV_Assert(greyLeft.type() == CV_32FC1 && greyRight.type() == CV_32FC1 && disparity.type() == CV_32FC1);
+    refineEachPixel(greyLeft.cols, greyLeft.rows, radius, iterations, maxChange, disparity,
+                    [&](int x, int y, int x0, float t) {
+                        // Right samples at x0 + dx + t and their x-derivative, linearly interpolated.
+                        WindowSums w;
+                        for (int dy = -radius; dy <= radius; ++dy) {
+                            const float* left = greyLeft.ptr<float>(y + dy);
+                            const float* row = greyRight.ptr<float>(y + dy);
+                            for (int dx = -radius; dx <= radius; ++dx) {
+                                const int i = x0 + dx;
+                                const float value = row[i] + t * (row[i + 1] - row[i]);
+                                const float gradient = 0.5f * ((row[i + 1] - row[i - 1]) +
+                                                               t * ((row[i + 2] - row[i]) - (row[i + 1] - row[i - 1])));
+                                const float e = left[x + dx] - value;
+                                w.e += e;
+                                w.g += gradient;
+                                w.eg += e * gradient;
+                                w.gg += gradient * gradient;
+                            }
+                        }
+                        return w;
+                    });
 }
 
 // The optimised kernel: the window's rows a vector at a time (cv::v_float32, lanes past the
@@ -301,11 +304,10 @@ void refineSubpixelByIntensity(const cv::Mat& greyLeft, const cv::Mat& greyRight
     const int width = greyLeft.cols, height = greyLeft.rows;
     const int side = 2 * radius + 1;
     const int chunks = (side + kLanes - 1) / kLanes;
-    const float count = static_cast<float>(side * side);
 
-    // Padded copies (reallocated only when the size changes). The stripes below run on other
-    // threads, which must see the caller's buffers, not thread_local ones of their own: hence
-    // the references.
+    // Padded copies (reallocated only when the size changes). The stripes run on other threads,
+    // which must see the caller's buffers, not thread_local ones of their own: hence the
+    // references.
     thread_local cv::Mat paddedLeft, paddedRight, paddedDerivative;
     cv::Mat& left = paddedLeft;
     cv::Mat& right = paddedRight;
@@ -328,58 +330,29 @@ void refineSubpixelByIntensity(const cv::Mat& greyLeft, const cv::Mat& greyRight
     std::vector<float> maskValues(static_cast<std::size_t>(chunks * kLanes));
     for (int i = 0; i < chunks * kLanes; ++i) maskValues[static_cast<std::size_t>(i)] = i < side ? 1.0f : 0.0f;
 
-    const cv::Mat fitted = disparity.clone();  // as in the reference: rows being refined change
-    forEachStripe(height, [&](int, int begin, int end) {
-        for (int y = begin; y < end; ++y) {
-            if (y < radius || y + radius >= height) continue;
-            float* out = disparity.ptr<float>(y);
-            for (int x = radius; x + radius < width; ++x) {
-                const float start = out[x];
-                if (start < 0.0f || straddlesDepthEdge(fitted, x, y, radius)) continue;
-                float d = start;
-                bool ok = true;
-                for (int iteration = 0; iteration < iterations && ok; ++iteration) {
-                    const float xr = static_cast<float>(x) - d;
-                    const int x0 = static_cast<int>(std::floor(xr));
-                    const float t = xr - static_cast<float>(x0);
-                    if (x0 - radius - 1 < 0 || x0 + radius + 2 >= width) {
-                        ok = false;
-                        break;
-                    }
-                    const cv::v_float32 vt = cv::vx_setall_f32(t);
-                    cv::v_float32 sumE = cv::vx_setzero_f32(), sumG = cv::vx_setzero_f32();
-                    cv::v_float32 sumEG = cv::vx_setzero_f32(), sumGG = cv::vx_setzero_f32();
-                    for (int dy = -radius; dy <= radius; ++dy) {
-                        const float* l = left.ptr<float>(y + dy) + x - radius;
-                        const float* r = right.ptr<float>(y + dy) + x0 - radius;
-                        const float* g = derivative.ptr<float>(y + dy) + x0 - radius;
-                        for (int c = 0; c < chunks * kLanes; c += kLanes) {
-                            const cv::v_float32 mask = cv::vx_load(maskValues.data() + c);
-                            const cv::v_float32 r0 = cv::vx_load(r + c), r1 = cv::vx_load(r + c + 1);
-                            const cv::v_float32 g0 = cv::vx_load(g + c), g1 = cv::vx_load(g + c + 1);
-                            const cv::v_float32 value = cv::v_fma(vt, r1 - r0, r0);
-                            const cv::v_float32 gradient = cv::v_fma(vt, g1 - g0, g0) * mask;
-                            const cv::v_float32 e = (cv::vx_load(l + c) - value) * mask;
-                            sumE += e;
-                            sumG += gradient;
-                            sumEG = cv::v_fma(e, gradient, sumEG);
-                            sumGG = cv::v_fma(gradient, gradient, sumGG);
-                        }
-                    }
-                    const float sE = cv::v_reduce_sum(sumE), sG = cv::v_reduce_sum(sumG);
-                    const float varG = cv::v_reduce_sum(sumGG) - sG * sG / count;
-                    if (varG < 1e-3f * count) {
-                        ok = false;  // no texture: the fit is all there is
-                        break;
-                    }
-                    const float covEG = cv::v_reduce_sum(sumEG) - sE * sG / count;
-                    const float step = covEG / varG;
-                    d -= step;
-                    if (std::abs(step) < 0.005f) break;
-                }
-                if (ok && std::abs(d - start) <= maxChange) out[x] = d;
+    refineEachPixel(width, height, radius, iterations, maxChange, disparity, [&](int x, int y, int x0, float t) {
+        const cv::v_float32 vt = cv::vx_setall_f32(t);
+        cv::v_float32 sumE = cv::vx_setzero_f32(), sumG = cv::vx_setzero_f32();
+        cv::v_float32 sumEG = cv::vx_setzero_f32(), sumGG = cv::vx_setzero_f32();
+        for (int dy = -radius; dy <= radius; ++dy) {
+            const float* l = left.ptr<float>(y + dy) + x - radius;
+            const float* r = right.ptr<float>(y + dy) + x0 - radius;
+            const float* g = derivative.ptr<float>(y + dy) + x0 - radius;
+            for (int c = 0; c < chunks * kLanes; c += kLanes) {
+                const cv::v_float32 mask = cv::vx_load(maskValues.data() + c);
+                const cv::v_float32 r0 = cv::vx_load(r + c), r1 = cv::vx_load(r + c + 1);
+                const cv::v_float32 g0 = cv::vx_load(g + c), g1 = cv::vx_load(g + c + 1);
+                const cv::v_float32 value = cv::v_fma(vt, r1 - r0, r0);
+                const cv::v_float32 gradient = cv::v_fma(vt, g1 - g0, g0) * mask;
+                const cv::v_float32 e = (cv::vx_load(l + c) - value) * mask;
+                sumE += e;
+                sumG += gradient;
+                sumEG = cv::v_fma(e, gradient, sumEG);
+                sumGG = cv::v_fma(gradient, gradient, sumGG);
             }
         }
+        return WindowSums{cv::v_reduce_sum(sumE), cv::v_reduce_sum(sumG), cv::v_reduce_sum(sumEG),
+                          cv::v_reduce_sum(sumGG)};
     });
 }
 

@@ -30,12 +30,9 @@ int regionVoting(const CrossArms& arms, const Parameters& parameters, cv::Mat& d
     const int bins = static_cast<int>(maxValue) + 1;
     constexpr int kLanes = cv::v_uint16::nlanes;
     const int pitch = (bins + kLanes - 1) / kLanes * kLanes;  // one prefix row, whole vectors
-    int filledTotal = 0;
-    for (int iteration = 0; iteration < parameters.votingIterations; ++iteration) {
-        // Jacobi style, as the reference: votes read the previous iteration's maps.
-        const cv::Mat before = disparity.clone();
-        const cv::Mat labelsBefore = labels.clone();
-        std::vector<int> filledPerStripe(kStripes, 0);
+    return iterateVoting(parameters.votingIterations, disparity, labels, [&](const cv::Mat& before,
+                                                                             const cv::Mat& labelsBefore,
+                                                                             std::vector<int>& filledPerStripe) {
         forEachStripe(width, [&](int stripe, int begin, int end) {
             std::vector<std::uint16_t> prefix(static_cast<std::size_t>(height + 1) * pitch);
             std::vector<int> reliablePrefix(static_cast<std::size_t>(height + 1));
@@ -84,12 +81,7 @@ int regionVoting(const CrossArms& arms, const Parameters& parameters, cv::Mat& d
                 }
             }
         });
-        int filled = 0;
-        for (int f : filledPerStripe) filled += f;
-        filledTotal += filled;
-        if (filled == 0) break;
-    }
-    return filledTotal;
+    });
 }
 
 }  // namespace icewatch::stereo::detail

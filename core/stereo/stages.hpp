@@ -195,6 +195,25 @@ cv::Mat leftRightCheck(const cv::Mat& leftDisparity, const cv::Mat& rightDispari
 // (region_voting.cpp). They give the same integers.
 int regionVoting(const CrossArms& arms, const Parameters& parameters, cv::Mat& disparity, cv::Mat& labels);
 int regionVotingReference(const CrossArms& arms, const Parameters& parameters, cv::Mat& disparity, cv::Mat& labels);
+// The iterations both voting kernels share, Jacobi style: each pass reads the previous pass's
+// maps (before, labelsBefore) and writes disparity and labels, so the result does not depend on
+// the order (or the thread) in which pixels are visited. pass(before, labelsBefore, filled) adds
+// the pixels it fills to filled[stripe]. Stops early when a pass fills nothing.
+template <class Pass>
+int iterateVoting(int iterations, cv::Mat& disparity, cv::Mat& labels, const Pass& pass) {
+    int filledTotal = 0;
+    for (int iteration = 0; iteration < iterations; ++iteration) {
+        const cv::Mat before = disparity.clone();
+        const cv::Mat labelsBefore = labels.clone();
+        std::vector<int> filledPerStripe(kStripes, 0);
+        pass(before, labelsBefore, filledPerStripe);
+        int filled = 0;
+        for (int f : filledPerStripe) filled += f;
+        filledTotal += filled;
+        if (filled == 0) break;
+    }
+    return filledTotal;
+}
 // Fills the remaining outliers along their row: occluded from the background (left) side,
 // mismatched with the smaller of the nearest reliable left and right disparities.
 void interpolateOutliers(cv::Mat& disparity, cv::Mat& labels);
