@@ -8,7 +8,8 @@
 // V(y) = Σ_{y' < y} H(x, y'), gives every region's histogram as one difference of two rows,
 // V(y + down + 1) - V(y - up), whatever the region's size; the plain version visits every pixel
 // of every outlier's region, which dominated the matcher's time on 1280x720 frames with large
-// textureless areas.
+// textureless areas. Where a column has few outliers with small regions, visiting them is the
+// cheaper way and is kept: each column takes whichever its arms say costs less (both are exact).
 //
 // Counts are 16-bit and may wrap along the column: a difference of wrapped prefix sums is exact
 // as long as the region's true count fits, and a region holds at most 255 x 255 pixels (arms are
@@ -37,47 +38,84 @@ int regionVoting(const CrossArms& arms, const Parameters& parameters, cv::Mat& d
             std::vector<std::uint16_t> prefix(static_cast<std::size_t>(height + 1) * pitch);
             std::vector<int> reliablePrefix(static_cast<std::size_t>(height + 1));
             std::vector<std::uint16_t> histogram(static_cast<std::size_t>(pitch));
-            for (int x = begin; x < end; ++x) {
-                bool anyOutlier = false;
-                for (int y = 0; y < height && !anyOutlier; ++y) anyOutlier = labelsBefore.at<std::uint8_t>(y, x) != kReliable;
-                if (!anyOutlier) continue;
-                // V and the reliable count along the column.
-                std::fill(prefix.begin(), prefix.begin() + pitch, std::uint16_t{0});
-                reliablePrefix[0] = 0;
-                for (int y = 0; y < height; ++y) {
-                    std::uint16_t* next = prefix.data() + static_cast<std::size_t>(y + 1) * pitch;
-                    std::copy(next - pitch, next, next);
-                    const auto* d = before.ptr<std::int16_t>(y);
-                    const auto* l = labelsBefore.ptr<std::uint8_t>(y);
-                    const int x0 = x - arms.left.at<std::uint8_t>(y, x), x1 = x + arms.right.at<std::uint8_t>(y, x);
-                    int reliable = 0;
-                    for (int xx = x0; xx <= x1; ++xx) {
-                        if (l[xx] != kReliable) continue;
-                        ++next[d[xx]];
-                        ++reliable;
-                    }
-                    reliablePrefix[static_cast<std::size_t>(y + 1)] = reliablePrefix[static_cast<std::size_t>(y)] + reliable;
+            std::vector<int> outliers;
+            // Reliable pixels of the horizontal arm of (x, y) into counts; returns how many.
+            auto countSegment = [&](int x, int y, std::uint16_t* counts) {
+                const auto* d = before.ptr<std::int16_t>(y);
+                const auto* l = labelsBefore.ptr<std::uint8_t>(y);
+                const int x0 = x - arms.left.at<std::uint8_t>(y, x), x1 = x + arms.right.at<std::uint8_t>(y, x);
+                int reliable = 0;
+                for (int xx = x0; xx <= x1; ++xx) {
+                    if (l[xx] != kReliable) continue;
+                    ++counts[d[xx]];
+                    ++reliable;
                 }
+                return reliable;
+            };
+            // The vote of outlier (x, y) on its region's histogram (whole vectors of counts).
+            auto vote = [&](int x, int y, const std::uint16_t* counts, int reliable) {
+                if (reliable <= parameters.votingMinCount) return;
+                cv::v_uint16 most = cv::vx_setzero_u16();
+                for (int b = 0; b < pitch; b += kLanes) most = cv::v_max(most, cv::vx_load(counts + b));
+                const int best = cv::v_reduce_max(most);
+                if (best <= parameters.votingMinRatio * reliable) return;
+                // The smallest disparity with the most votes, as std::max_element picks.
+                const auto winner = std::find(counts, counts + bins, best) - counts;
+                disparity.at<std::int16_t>(y, x) = static_cast<std::int16_t>(winner);
+                labels.at<std::uint8_t>(y, x) = kReliable;
+                ++filledPerStripe[static_cast<std::size_t>(stripe)];
+            };
+            for (int x = begin; x < end; ++x) {
+                // This column's outliers, the rows their regions span, and what each way costs:
+                // visiting every region pixel, or a prefix row (a vector copy and one segment)
+                // for every row spanned.
+                outliers.clear();
+                int first = height, last = -1;
+                long long directCost = 0;
                 for (int y = 0; y < height; ++y) {
                     if (labelsBefore.at<std::uint8_t>(y, x) == kReliable) continue;
-                    const int y0 = y - arms.up.at<std::uint8_t>(y, x), y1 = y + arms.down.at<std::uint8_t>(y, x) + 1;
-                    const int reliable = reliablePrefix[static_cast<std::size_t>(y1)] - reliablePrefix[static_cast<std::size_t>(y0)];
-                    if (reliable <= parameters.votingMinCount) continue;
-                    const std::uint16_t* top = prefix.data() + static_cast<std::size_t>(y1) * pitch;
-                    const std::uint16_t* bottom = prefix.data() + static_cast<std::size_t>(y0) * pitch;
-                    cv::v_uint16 most = cv::vx_setzero_u16();
-                    for (int b = 0; b < pitch; b += kLanes) {
-                        const cv::v_uint16 count = cv::v_sub_wrap(cv::vx_load(top + b), cv::vx_load(bottom + b));
-                        cv::v_store(histogram.data() + b, count);
-                        most = cv::v_max(most, count);
+                    outliers.push_back(y);
+                    const int up = arms.up.at<std::uint8_t>(y, x), down = arms.down.at<std::uint8_t>(y, x);
+                    first = std::min(first, y - up);
+                    last = std::max(last, y + down);
+                    directCost += static_cast<long long>(up + down + 1) *
+                                      (arms.left.at<std::uint8_t>(y, x) + arms.right.at<std::uint8_t>(y, x) + 1) +
+                                  pitch;
+                }
+                if (outliers.empty()) continue;
+                long long prefixCost = 0;
+                for (int y = first; y <= last; ++y) {
+                    prefixCost += pitch / 4 + arms.left.at<std::uint8_t>(y, x) + arms.right.at<std::uint8_t>(y, x) + 1;
+                }
+                if (directCost <= prefixCost) {
+                    for (const int y : outliers) {
+                        std::fill(histogram.begin(), histogram.end(), std::uint16_t{0});
+                        int reliable = 0;
+                        for (int yy = y - arms.up.at<std::uint8_t>(y, x); yy <= y + arms.down.at<std::uint8_t>(y, x); ++yy) {
+                            reliable += countSegment(x, yy, histogram.data());
+                        }
+                        vote(x, y, histogram.data(), reliable);
                     }
-                    const int best = cv::v_reduce_max(most);
-                    if (best <= parameters.votingMinRatio * reliable) continue;
-                    // The smallest disparity with the most votes, as std::max_element picks.
-                    const auto winner = std::find(histogram.begin(), histogram.begin() + bins, best) - histogram.begin();
-                    disparity.at<std::int16_t>(y, x) = static_cast<std::int16_t>(winner);
-                    labels.at<std::uint8_t>(y, x) = kReliable;
-                    ++filledPerStripe[static_cast<std::size_t>(stripe)];
+                    continue;
+                }
+                // V over rows first .. last (prefix row i holds the rows before first + i).
+                std::fill(prefix.begin(), prefix.begin() + pitch, std::uint16_t{0});
+                reliablePrefix[0] = 0;
+                for (int y = first; y <= last; ++y) {
+                    const auto i = static_cast<std::size_t>(y - first);
+                    std::uint16_t* next = prefix.data() + (i + 1) * pitch;
+                    std::copy(next - pitch, next, next);
+                    reliablePrefix[i + 1] = reliablePrefix[i] + countSegment(x, y, next);
+                }
+                for (const int y : outliers) {
+                    const auto i0 = static_cast<std::size_t>(y - arms.up.at<std::uint8_t>(y, x) - first);
+                    const auto i1 = static_cast<std::size_t>(y + arms.down.at<std::uint8_t>(y, x) + 1 - first);
+                    const std::uint16_t* top = prefix.data() + i1 * pitch;
+                    const std::uint16_t* bottom = prefix.data() + i0 * pitch;
+                    for (int b = 0; b < pitch; b += kLanes) {
+                        cv::v_store(histogram.data() + b, cv::v_sub_wrap(cv::vx_load(top + b), cv::vx_load(bottom + b)));
+                    }
+                    vote(x, y, histogram.data(), reliablePrefix[i1] - reliablePrefix[i0]);
                 }
             }
         });
