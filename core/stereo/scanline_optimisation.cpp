@@ -43,6 +43,9 @@ constexpr Direction kDirections[8] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, 1}, 
 
 // One step of the recurrence for all disparities of a pixel, fused with the sum over directions
 // (kFirst: the sum starts here). Returns min_d of the new L, the next step's min_t L(p-r, t).
+// previous[-1] and previous[stride] must be readable and hold 0xFFFF (the guards of LineBuffers):
+// L(d-1) and L(d+1) are then plain unaligned loads, not lane shuffles, which on AVX2 cross the
+// two 128-bit halves and were the recurrence's bottleneck.
 template <bool kFirst>
 std::uint16_t stepAndAccumulate(const std::uint16_t* cost, const std::uint16_t* previous, std::uint16_t minPrevious,
                                 int stride, std::uint16_t p1, std::uint16_t p2, std::uint16_t* out,
@@ -50,25 +53,35 @@ std::uint16_t stepAndAccumulate(const std::uint16_t* cost, const std::uint16_t* 
     const cv::v_uint16 vMin = cv::vx_setall_u16(minPrevious);
     const cv::v_uint16 vJump = vMin + cv::vx_setall_u16(p2);  // saturating
     const cv::v_uint16 vP1 = cv::vx_setall_u16(p1);
-    const cv::v_uint16 none = cv::vx_setall_u16(0xFFFF);
-    cv::v_uint16 newMin = none;
-    cv::v_uint16 before = none;
-    cv::v_uint16 current = cv::vx_load(previous);
+    cv::v_uint16 newMin = cv::vx_setall_u16(0xFFFF);
     for (int d = 0; d < stride; d += kLanes) {
-        const cv::v_uint16 after = d + kLanes < stride ? cv::vx_load(previous + d + kLanes) : none;
-        const cv::v_uint16 lower = cv::v_extract<kLanes - 1>(before, current);  // L(d-1)
-        const cv::v_uint16 upper = cv::v_extract<1>(current, after);            // L(d+1)
+        const cv::v_uint16 current = cv::vx_load(previous + d);
+        const cv::v_uint16 lower = cv::vx_load(previous + d - 1);  // L(d-1)
+        const cv::v_uint16 upper = cv::vx_load(previous + d + 1);  // L(d+1)
         cv::v_uint16 m = cv::v_min(current, cv::v_min(lower + vP1, upper + vP1));
         m = cv::v_min(m, vJump);
         const cv::v_uint16 l = cv::vx_load(cost + d) + (m - vMin);
         cv::v_store(out + d, l);
         cv::v_store(sum + d, kFirst ? l : cv::vx_load(sum + d) + l);
         newMin = cv::v_min(newMin, l);
-        before = current;
-        current = after;
     }
     return cv::v_reduce_min(newMin);
 }
+
+// L vectors of `count` pixels, each with a guard of one vector of 0xFFFF before it; the guard of
+// the next pixel (or the final one) follows it. at(i) is aligned like the allocation.
+class LineBuffers {
+public:
+    void create(int count, int stride) {
+        pitch_ = stride + kLanes;
+        data_.assign(static_cast<std::size_t>(count) * pitch_ + kLanes, std::uint16_t{0xFFFF});
+    }
+    std::uint16_t* at(int i) { return data_.data() + static_cast<std::size_t>(i) * pitch_ + kLanes; }
+
+private:
+    std::size_t pitch_ = 0;
+    std::vector<std::uint16_t> data_;
+};
 
 // The first pixel of a line: L = C.
 template <bool kFirst>
@@ -179,9 +192,10 @@ void horizontalPass(const CostVolume& costs, const PenaltyCases& cases, const Sc
                     CostVolume& sum) {
     const int width = costs.width, stride = costs.stride;
     forEachStripe(costs.height, [&](int, int begin, int end) {
-        std::vector<std::uint16_t> buffers(static_cast<std::size_t>(2 * stride));
-        std::uint16_t* previous = buffers.data();
-        std::uint16_t* current = buffers.data() + stride;
+        LineBuffers buffers;
+        buffers.create(2, stride);
+        std::uint16_t* previous = buffers.at(0);
+        std::uint16_t* current = buffers.at(1);
         for (int y = begin; y < end; ++y) {
             const std::uint8_t* rightwards = cases.row(0, y);
             const std::uint8_t* leftwards = cases.row(1, y);
@@ -211,16 +225,16 @@ void verticalPass(const CostVolume& costs, const PenaltyCases& cases, const Scan
     const int width = costs.width, height = costs.height, stride = costs.stride;
     const Direction directions[3] = {{0, dy}, {1, dy}, {-1, dy}};
     const int caseIndex[3] = {dy > 0 ? 2 : 3, dy > 0 ? 4 : 6, dy > 0 ? 7 : 5};  // in kDirections
-    const auto rowSize = static_cast<std::size_t>(width) * stride;
-    std::vector<std::uint16_t> rows(6 * rowSize);  // previous and current row of L per direction
+    LineBuffers rows[6];  // previous and current row of L per direction
+    for (LineBuffers& row : rows) row.create(width, stride);
     std::vector<std::uint16_t> minima(6 * static_cast<std::size_t>(width));
     std::uint16_t* previous[3];
     std::uint16_t* current[3];
     std::uint16_t* previousMin[3];
     std::uint16_t* currentMin[3];
     for (int i = 0; i < 3; ++i) {
-        previous[i] = rows.data() + (2 * i) * rowSize;
-        current[i] = rows.data() + (2 * i + 1) * rowSize;
+        previous[i] = rows[2 * i].at(0);
+        current[i] = rows[2 * i + 1].at(0);
         previousMin[i] = minima.data() + (2 * i) * static_cast<std::size_t>(width);
         currentMin[i] = minima.data() + (2 * i + 1) * static_cast<std::size_t>(width);
     }
@@ -231,13 +245,13 @@ void verticalPass(const CostVolume& costs, const PenaltyCases& cases, const Scan
                 for (int i = 0; i < 3; ++i) {
                     const Direction r = directions[i];
                     const int px = x - r.dx;
-                    std::uint16_t* out = current[i] + static_cast<std::size_t>(x) * stride;
+                    std::uint16_t* out = current[i] + static_cast<std::size_t>(x) * (stride + kLanes);
                     if (step == 0 || px < 0 || px >= width) {
                         currentMin[i][x] = startLine<false>(costs.at(x, y), stride, out, sum.at(x, y));
                     } else {
                         const int c = cases.row(caseIndex[i], y)[x];
                         currentMin[i][x] = stepAndAccumulate<false>(
-                            costs.at(x, y), previous[i] + static_cast<std::size_t>(px) * stride, previousMin[i][px],
+                            costs.at(x, y), previous[i] + static_cast<std::size_t>(px) * (stride + kLanes), previousMin[i][px],
                             stride, penalties.p1[c], penalties.p2[c], out, sum.at(x, y));
                     }
                 }
@@ -256,12 +270,13 @@ void columnPass(const CostVolume& costs, const PenaltyCases& cases, const Scanli
                 CostVolume& sum) {
     const int height = costs.height, stride = costs.stride;
     forEachStripe(costs.width, [&](int, int begin, int end) {
-        std::vector<std::uint16_t> buffers(static_cast<std::size_t>(2 * stride));
+        LineBuffers buffers;
+        buffers.create(2, stride);
         for (int x = begin; x < end; ++x) {
             for (const int dy : {1, -1}) {
                 const int caseIndex = dy > 0 ? 2 : 3;  // in kDirections
-                std::uint16_t* previous = buffers.data();
-                std::uint16_t* current = buffers.data() + stride;
+                std::uint16_t* previous = buffers.at(0);
+                std::uint16_t* current = buffers.at(1);
                 const int y0 = dy > 0 ? 0 : height - 1;
                 std::uint16_t minimum = startLine<false>(costs.at(x, y0), stride, previous, sum.at(x, y0));
                 for (int step = 1; step < height; ++step) {
