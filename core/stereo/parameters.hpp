@@ -100,14 +100,14 @@ struct Parameters {
     int lrMaxDifference = 1;      // |D_L(p) - D_R(p - D_L(p))| <= this is consistent. Paper: δ = 1
     // The right view's disparities for the check come from their own aggregation and scanline
     // pass over the right image (the cost volume read along its diagonals), as Mei et al. do.
-    // Off, they are read off the left view's aggregated volume: about 1.6 times faster, but the
+    // Off, they are read off the left view's aggregated volume: about 1.2 times faster, but the
     // left image's support regions then judge the right view and many wrong pixels pass the
-    // check. Cones+Teddy average bad: 4.05 % on, 4.49 % off (AD-Census 3.57 / 4.09 %).
+    // check. Cones+Teddy average bad: 3.90 % on, 4.43 % off.
     bool rightViewAggregation = true;
     // Scanline directions of that pass: 8, or the 4 along the axes. The right view only decides
     // which left pixels pass the check, and 4 directions measured better there, as well as faster:
-    // Cones+Teddy average bad 3.96 % clean with 4, 4.05 % with 8 (salt-and-pepper 3 %: 4.04 /
-    // 4.13 %; Gaussian σ 2: 5.64 / 5.57 %). The left view always takes all 8.
+    // Cones+Teddy average bad 3.90 % clean with 4, 3.98 % with 8 (salt-and-pepper 3 %: 3.96 /
+    // 4.06 %; Gaussian σ 2: 5.44 / 5.44 %). The left view always takes all 8.
     int rightViewScanlineDirections = 4;
     int votingIterations = 5;     // Mei: 5
     int votingMinCount = 10;      // tau_S: reliable pixels the region needs. Mei: 20
