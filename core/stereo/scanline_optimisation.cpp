@@ -68,6 +68,41 @@ std::uint16_t stepAndAccumulate(const std::uint16_t* cost, const std::uint16_t* 
     return cv::v_reduce_min(newMin);
 }
 
+// The three directions of a vertical pass at one pixel in one go: the same step as above for each
+// (previous[i] may be null: that direction starts its line here, L = C), with the sum read and
+// written once instead of three times. minima[i] is min_t L(p - r_i, t) on entry and the new
+// minimum on return.
+void stepThreeAndAccumulate(const std::uint16_t* cost, const std::uint16_t* const previous[3],
+                            std::uint16_t minima[3], int stride, const std::uint16_t p1[3],
+                            const std::uint16_t p2[3], std::uint16_t* const out[3], std::uint16_t* sum) {
+    cv::v_uint16 vMin[3], vJump[3], vP1[3], newMin[3];
+    for (int i = 0; i < 3; ++i) {
+        vMin[i] = cv::vx_setall_u16(previous[i] ? minima[i] : 0);
+        vJump[i] = vMin[i] + cv::vx_setall_u16(p2[i]);  // saturating
+        vP1[i] = cv::vx_setall_u16(p1[i]);
+        newMin[i] = cv::vx_setall_u16(0xFFFF);
+    }
+    for (int d = 0; d < stride; d += kLanes) {
+        const cv::v_uint16 c = cv::vx_load(cost + d);
+        cv::v_uint16 total = cv::vx_load(sum + d);
+        for (int i = 0; i < 3; ++i) {
+            cv::v_uint16 l = c;
+            if (previous[i]) {
+                const std::uint16_t* prev = previous[i];
+                cv::v_uint16 m = cv::v_min(cv::vx_load(prev + d),
+                                           cv::v_min(cv::vx_load(prev + d - 1) + vP1[i], cv::vx_load(prev + d + 1) + vP1[i]));
+                m = cv::v_min(m, vJump[i]);
+                l = c + (m - vMin[i]);
+            }
+            cv::v_store(out[i] + d, l);
+            total = total + l;
+            newMin[i] = cv::v_min(newMin[i], l);
+        }
+        cv::v_store(sum + d, total);
+    }
+    for (int i = 0; i < 3; ++i) minima[i] = cv::v_reduce_min(newMin[i]);
+}
+
 // L vectors of `count` pixels, each with a guard of one vector of 0xFFFF before it; the guard of
 // the next pixel (or the final one) follows it. at(i) is aligned like the allocation.
 class LineBuffers {
@@ -242,19 +277,21 @@ void verticalPass(const CostVolume& costs, const PenaltyCases& cases, const Scan
         const int y = dy > 0 ? step : height - 1 - step;
         forEachStripe(width, [&](int, int begin, int end) {
             for (int x = begin; x < end; ++x) {
+                const std::uint16_t* from[3];
+                std::uint16_t* out[3];
+                std::uint16_t minimum[3], p1[3], p2[3];
                 for (int i = 0; i < 3; ++i) {
-                    const Direction r = directions[i];
-                    const int px = x - r.dx;
-                    std::uint16_t* out = current[i] + static_cast<std::size_t>(x) * (stride + kLanes);
-                    if (step == 0 || px < 0 || px >= width) {
-                        currentMin[i][x] = startLine<false>(costs.at(x, y), stride, out, sum.at(x, y));
-                    } else {
-                        const int c = cases.row(caseIndex[i], y)[x];
-                        currentMin[i][x] = stepAndAccumulate<false>(
-                            costs.at(x, y), previous[i] + static_cast<std::size_t>(px) * (stride + kLanes), previousMin[i][px],
-                            stride, penalties.p1[c], penalties.p2[c], out, sum.at(x, y));
-                    }
+                    const int px = x - directions[i].dx;
+                    out[i] = current[i] + static_cast<std::size_t>(x) * (stride + kLanes);
+                    const bool starts = step == 0 || px < 0 || px >= width;
+                    from[i] = starts ? nullptr : previous[i] + static_cast<std::size_t>(px) * (stride + kLanes);
+                    minimum[i] = starts ? 0 : previousMin[i][px];
+                    const int c = cases.row(caseIndex[i], y)[x];
+                    p1[i] = penalties.p1[c];
+                    p2[i] = penalties.p2[c];
                 }
+                stepThreeAndAccumulate(costs.at(x, y), from, minimum, stride, p1, p2, out, sum.at(x, y));
+                for (int i = 0; i < 3; ++i) currentMin[i][x] = minimum[i];
             }
         });
         for (int i = 0; i < 3; ++i) {
@@ -265,26 +302,38 @@ void verticalPass(const CostVolume& costs, const PenaltyCases& cases, const Scan
 }
 
 // Straight down and straight up alone (the 4-direction sum): columns are independent, so they are
-// split over stripes once, with no wait between rows. Each column runs down, then up.
+// split over stripes once, with no wait between rows. A block of neighbouring columns runs down,
+// then up, together: walking one column alone would jump a whole image row in memory for every
+// pixel's few cache lines, and the hardware prefetcher does not follow that.
+constexpr int kColumnBlock = 8;
 void columnPass(const CostVolume& costs, const PenaltyCases& cases, const ScanlinePenalties& penalties,
                 CostVolume& sum) {
     const int height = costs.height, stride = costs.stride;
     forEachStripe(costs.width, [&](int, int begin, int end) {
         LineBuffers buffers;
-        buffers.create(2, stride);
-        for (int x = begin; x < end; ++x) {
+        buffers.create(2 * kColumnBlock, stride);
+        std::uint16_t minimum[kColumnBlock];
+        for (int x0 = begin; x0 < end; x0 += kColumnBlock) {
+            const int columns = std::min(kColumnBlock, end - x0);
             for (const int dy : {1, -1}) {
                 const int caseIndex = dy > 0 ? 2 : 3;  // in kDirections
-                std::uint16_t* previous = buffers.at(0);
-                std::uint16_t* current = buffers.at(1);
+                std::uint16_t* previous[kColumnBlock];
+                std::uint16_t* current[kColumnBlock];
                 const int y0 = dy > 0 ? 0 : height - 1;
-                std::uint16_t minimum = startLine<false>(costs.at(x, y0), stride, previous, sum.at(x, y0));
+                for (int k = 0; k < columns; ++k) {
+                    previous[k] = buffers.at(2 * k);
+                    current[k] = buffers.at(2 * k + 1);
+                    minimum[k] = startLine<false>(costs.at(x0 + k, y0), stride, previous[k], sum.at(x0 + k, y0));
+                }
                 for (int step = 1; step < height; ++step) {
                     const int y = y0 + dy * step;
-                    const int c = cases.row(caseIndex, y)[x];
-                    minimum = stepAndAccumulate<false>(costs.at(x, y), previous, minimum, stride, penalties.p1[c],
-                                                       penalties.p2[c], current, sum.at(x, y));
-                    std::swap(previous, current);
+                    const std::uint8_t* c = cases.row(caseIndex, y) + x0;
+                    for (int k = 0; k < columns; ++k) {
+                        minimum[k] = stepAndAccumulate<false>(costs.at(x0 + k, y), previous[k], minimum[k], stride,
+                                                              penalties.p1[c[k]], penalties.p2[c[k]], current[k],
+                                                              sum.at(x0 + k, y));
+                        std::swap(previous[k], current[k]);
+                    }
                 }
             }
         }
