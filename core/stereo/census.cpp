@@ -12,6 +12,7 @@
 // so every pixel gets two 8-bit thresholds and no floating point is involved.
 #include <algorithm>
 #include <bit>
+#include <cmath>
 
 #include "core/common/simd.hpp"
 #include <opencv2/imgproc.hpp>
@@ -29,13 +30,12 @@ void CensusImage::create(int w, int h, int wordsPerPixel) {
 
 namespace {
 
-cv::Mat sobelMagnitude32F(const cv::Mat& image) {
-    cv::Mat gx, gy, magnitude;
-    // Sobel / 8 is the slope in grey levels per pixel on a ramp, with the usual 3x3 smoothing.
-    cv::Sobel(image, gx, CV_32F, 1, 0, 3, 1.0 / 8.0, 0, cv::BORDER_REPLICATE);
-    cv::Sobel(image, gy, CV_32F, 0, 1, 3, 1.0 / 8.0, 0, cv::BORDER_REPLICATE);
-    cv::magnitude(gx, gy, magnitude);
-    return magnitude;
+// 3x3 Sobel derivatives of an 8-bit image (any channel count), exact in 16 bits. Sobel / 8 is the
+// slope in grey levels per pixel on a ramp, with the usual 3x3 smoothing. Integer derivatives are
+// several times faster than float ones, and every test on them below is exact.
+void sobel16(const cv::Mat& image, cv::Mat& dx, cv::Mat& dy) {
+    cv::Sobel(image, dx, CV_16S, 1, 0, 3, 1.0, 0.0, cv::BORDER_REPLICATE);
+    cv::Sobel(image, dy, CV_16S, 0, 1, 3, 1.0, 0.0, cv::BORDER_REPLICATE);
 }
 
 struct Thresholds {
@@ -92,32 +92,91 @@ constexpr int kPad = 4;
 }  // namespace
 
 cv::Mat censusWindowMask(const cv::Mat& grey, double gradientThreshold) {
-    const cv::Mat magnitude = sobelMagnitude32F(grey);
-    cv::Mat mask;
-    cv::compare(magnitude, gradientThreshold, mask, cv::CMP_GT);  // 255 / 0
-    return mask / 255;
+    CV_Assert(grey.type() == CV_8UC1);
+    cv::Mat dx, dy;
+    sobel16(grey, dx, dy);
+    // |∇I| / 8 > T  <=>  dx² + dy² > (8T)², compared exactly on the integer squares.
+    const double limit = 64.0 * gradientThreshold * std::abs(gradientThreshold);
+    cv::Mat mask(grey.size(), CV_8UC1);
+    for (int y = 0; y < grey.rows; ++y) {
+        const auto* gx = dx.ptr<std::int16_t>(y);
+        const auto* gy = dy.ptr<std::int16_t>(y);
+        auto* out = mask.ptr<std::uint8_t>(y);
+        for (int x = 0; x < grey.cols; ++x) {
+            const int squared = gx[x] * gx[x] + gy[x] * gy[x];
+            out[x] = static_cast<double>(squared) > limit ? 1 : 0;
+        }
+    }
+    return mask;
 }
 
 cv::Mat channelGradientMagnitudes(const cv::Mat& bgr) {
-    cv::Mat magnitude8;
+    CV_Assert(bgr.depth() == CV_8U);
+    cv::Mat dx, dy;
+    sobel16(bgr, dx, dy);
     // Quarter grey levels: the gradient term is decisive and needs the resolution; gradients above
     // 63.75 grey levels per pixel (strong edges, where Census and AD decide anyway) saturate.
-    sobelMagnitude32F(bgr).convertTo(magnitude8, CV_8U, kGradientSteps);  // rounds and saturates
+    // sqrt((dx² + dy²) / 64) is exact up to the float square root's rounding, as the float Sobel
+    // (scaled by 1/8) and cv::magnitude computed it.
+    cv::Mat magnitude8(bgr.size(), CV_8UC(bgr.channels()));
+    const int values = bgr.cols * bgr.channels();
+    for (int y = 0; y < bgr.rows; ++y) {
+        const auto* gx = dx.ptr<std::int16_t>(y);
+        const auto* gy = dy.ptr<std::int16_t>(y);
+        auto* out = magnitude8.ptr<std::uint8_t>(y);
+        for (int i = 0; i < values; ++i) {
+            const float squared = static_cast<float>(gx[i] * gx[i] + gy[i] * gy[i]) * (1.0f / 64.0f);
+            out[i] = cv::saturate_cast<std::uint8_t>(std::sqrt(squared) * static_cast<float>(kGradientSteps));
+        }
+    }
     return magnitude8;
 }
 
 cv::Mat edgeCornerBits(const cv::Mat& grey, const Parameters& parameters) {
+    CV_Assert(grey.type() == CV_8UC1);
+    // One pair of derivatives serves both detectors: Canny's own (3x3 Sobel, replicated border)
+    // and Harris' (the same Sobel; its scale does not matter, the threshold is relative to the
+    // largest response).
+    cv::Mat dx, dy;
+    sobel16(grey, dx, dy);
     cv::Mat edges;
-    cv::Canny(grey, edges, parameters.cannyLowThreshold, parameters.cannyHighThreshold, 3, true);
-    cv::Mat response;
-    cv::cornerHarris(grey, response, 3, 3, 0.04, cv::BORDER_REPLICATE);
-    double maxResponse = 0.0;
-    cv::minMaxLoc(response, nullptr, &maxResponse);
-    cv::Mat corners = cv::Mat::zeros(grey.size(), CV_8U);
-    if (maxResponse > 0.0) {
-        cv::compare(response, parameters.harrisThreshold * maxResponse, corners, cv::CMP_GT);
+    cv::Canny(dx, dy, edges, parameters.cannyLowThreshold, parameters.cannyHighThreshold, true);
+    // Harris, k = 0.04 over 3x3 blocks: the products of the derivatives are integers, and so
+    // are their 3x3 sums (below 2^24, exact in float); the response is taken in double.
+    cv::Mat products(grey.size(), CV_32FC3);
+    for (int y = 0; y < grey.rows; ++y) {
+        const auto* gx = dx.ptr<std::int16_t>(y);
+        const auto* gy = dy.ptr<std::int16_t>(y);
+        auto* out = products.ptr<float>(y);
+        for (int x = 0; x < grey.cols; ++x) {
+            out[3 * x] = static_cast<float>(gx[x] * gx[x]);
+            out[3 * x + 1] = static_cast<float>(gx[x] * gy[x]);
+            out[3 * x + 2] = static_cast<float>(gy[x] * gy[x]);
+        }
     }
-    cv::Mat bits = (edges / 255) * 2 + corners / 255;
+    cv::boxFilter(products, products, CV_32F, {3, 3}, {-1, -1}, false, cv::BORDER_REPLICATE);
+    cv::Mat response(grey.size(), CV_64FC1);
+    double maxResponse = 0.0;
+    for (int y = 0; y < grey.rows; ++y) {
+        const auto* m = products.ptr<float>(y);
+        auto* out = response.ptr<double>(y);
+        for (int x = 0; x < grey.cols; ++x) {
+            const double a = m[3 * x], b = m[3 * x + 1], c = m[3 * x + 2];
+            out[x] = a * c - b * b - 0.04 * (a + c) * (a + c);
+            maxResponse = std::max(maxResponse, out[x]);
+        }
+    }
+    const double cornerLimit = parameters.harrisThreshold * maxResponse;
+    cv::Mat bits(grey.size(), CV_8UC1);
+    for (int y = 0; y < grey.rows; ++y) {
+        const auto* e = edges.ptr<std::uint8_t>(y);
+        const auto* r = response.ptr<double>(y);
+        auto* out = bits.ptr<std::uint8_t>(y);
+        for (int x = 0; x < grey.cols; ++x) {
+            const bool corner = maxResponse > 0.0 && r[x] > cornerLimit;
+            out[x] = static_cast<std::uint8_t>((e[x] != 0 ? 2 : 0) + (corner ? 1 : 0));
+        }
+    }
     return bits;
 }
 
