@@ -16,6 +16,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <opencv2/imgproc.hpp>
+
 #include "core/common/simd.hpp"
 #include "core/stereo/matcher.hpp"
 #include "core/stereo/stages.hpp"
@@ -196,15 +198,24 @@ cv::Mat subpixelRefine(const cv::Mat& disparity, const CostVolume& costs) {
 
 namespace {
 
-bool straddlesDepthEdge(const cv::Mat& disparity, int x, int y, int radius) {
-    const float centre = disparity.at<float>(y, x);
-    for (int dy = -radius; dy <= radius; ++dy) {
-        const float* row = disparity.ptr<float>(y + dy);
-        for (int dx = -radius; dx <= radius; ++dx) {
-            if (std::abs(row[x + dx] - centre) > 1.0f) return true;
+// 255 where the (2r+1)² window around a pixel holds a disparity more than a pixel from the
+// centre's: the window's largest and smallest values (dilation and erosion) against the centre.
+cv::Mat depthEdgeWindows(const cv::Mat& disparity, int radius) {
+    const cv::Mat box = cv::getStructuringElement(cv::MORPH_RECT, {2 * radius + 1, 2 * radius + 1});
+    cv::Mat largest, smallest;
+    cv::dilate(disparity, largest, box, {-1, -1}, 1, cv::BORDER_REPLICATE);
+    cv::erode(disparity, smallest, box, {-1, -1}, 1, cv::BORDER_REPLICATE);
+    cv::Mat straddles(disparity.size(), CV_8UC1);
+    for (int y = 0; y < disparity.rows; ++y) {
+        const float* centre = disparity.ptr<float>(y);
+        const float* hi = largest.ptr<float>(y);
+        const float* lo = smallest.ptr<float>(y);
+        auto* out = straddles.ptr<std::uint8_t>(y);
+        for (int x = 0; x < disparity.cols; ++x) {
+            out[x] = (hi[x] - centre[x] > 1.0f || centre[x] - lo[x] > 1.0f) ? 255 : 0;
         }
     }
-    return false;
+    return straddles;
 }
 
 // Window sums of one Gauss-Newton step: residual e = I_L - I_R(x - d) and right x-derivative g.
@@ -222,16 +233,17 @@ void refineEachPixel(int width, int height, int radius, int iterations, float ma
     const float count = static_cast<float>(side * side);
     // The window must see one surface: where it straddles a depth edge (a disparity in it more
     // than a pixel from the centre's) the SSD mixes the two surfaces' shifts and would drag the
-    // centre towards the other one, so the cost fit stands there. Read from a copy: the rows
-    // being refined are changing.
-    const cv::Mat fitted = disparity.clone();
+    // centre towards the other one, so the cost fit stands there. Decided for every pixel before
+    // any is refined: the rows being refined are changing.
+    const cv::Mat straddles = depthEdgeWindows(disparity, radius);
     forEachStripe(height, [&](int, int begin, int end) {
         for (int y = begin; y < end; ++y) {
             if (y < radius || y + radius >= height) continue;
             float* out = disparity.ptr<float>(y);
+            const std::uint8_t* edge = straddles.ptr<std::uint8_t>(y);
             for (int x = radius; x + radius < width; ++x) {
                 const float start = out[x];
-                if (start < 0.0f || straddlesDepthEdge(fitted, x, y, radius)) continue;
+                if (start < 0.0f || edge[x] != 0) continue;
                 float d = start;
                 bool ok = true;
                 for (int iteration = 0; iteration < iterations && ok; ++iteration) {
