@@ -1,7 +1,8 @@
 // The Census-based matchers as a flat list of stages; each stage lives in its own file
-// (stages.hpp lists them). Two volumes of 16-bit costs are the only large buffers: the matching
-// cost is aggregated in place (with the second volume as scratch), then the scanline sum is
-// written to the second volume.
+// (stages.hpp lists them). Volumes of 16-bit costs are the only large buffers: the matching cost
+// is aggregated in place (with a second volume as scratch), then the scanline sum is written to
+// the second volume; the right view's pass has a third, which the left view's scanlines then
+// borrow as their scratch (with the right-view pass off, the scanline stage keeps its own).
 #include "core/stereo/census_matcher.hpp"
 
 #include <opencv2/imgproc.hpp>
@@ -103,7 +104,8 @@ cv::Mat CensusMatcher::compute(const cv::Mat& left, const cv::Mat& right, int ma
 
     // 5. Scanline optimisation along 8 directions, summed into the second volume; winner-take-all
     //    (the right view from the same volume's diagonals when it had no pass of its own).
-    aggregateScanlines(costs_, bgrLeft, penalties, scratch_);
+    // The right view's volume is free by now: it lends the scanline pass its scratch.
+    aggregateScanlines(costs_, bgrLeft, penalties, scratch_, 8, p.rightViewAggregation ? &rightCosts_ : nullptr);
     cv::Mat disparity;
     if (p.rightViewAggregation) {
         winnerTakesAll(scratch_, disparity);

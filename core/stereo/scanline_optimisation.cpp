@@ -70,8 +70,9 @@ std::uint16_t stepAndAccumulate(const std::uint16_t* cost, const std::uint16_t* 
 
 // The three directions of a vertical pass at one pixel in one go: the same step as above for each
 // (previous[i] may be null: that direction starts its line here, L = C), with the sum read and
-// written once instead of three times. minima[i] is min_t L(p - r_i, t) on entry and the new
-// minimum on return.
+// written once instead of three times (kFirst: the sum starts here). minima[i] is
+// min_t L(p - r_i, t) on entry and the new minimum on return.
+template <bool kFirst>
 void stepThreeAndAccumulate(const std::uint16_t* cost, const std::uint16_t* const previous[3],
                             std::uint16_t minima[3], int stride, const std::uint16_t p1[3],
                             const std::uint16_t p2[3], std::uint16_t* const out[3], std::uint16_t* sum) {
@@ -84,7 +85,7 @@ void stepThreeAndAccumulate(const std::uint16_t* cost, const std::uint16_t* cons
     }
     for (int d = 0; d < stride; d += kLanes) {
         const cv::v_uint16 c = cv::vx_load(cost + d);
-        cv::v_uint16 total = cv::vx_load(sum + d);
+        cv::v_uint16 total = kFirst ? cv::vx_setzero_u16() : cv::vx_load(sum + d);
         for (int i = 0; i < 3; ++i) {
             cv::v_uint16 l = c;
             if (previous[i]) {
@@ -253,8 +254,11 @@ void horizontalPass(const CostVolume& costs, const PenaltyCases& cases, const Sc
 }
 
 // The three directions that go down (dy = 1) or up (dy = -1), row after row: each row depends
-// only on the previous one, so a row's columns are split over stripes. One read of the costs and
-// one update of the sum serve all three directions.
+// only on the previous one. The whole pass runs on one thread: splitting each row's columns over
+// threads needs a wait for every row, and those waits cost more than the second core gave (the
+// down and the up pass run side by side instead, see aggregateScanlines). One read of the costs
+// and one update of the sum serve all three directions; kFirst: the sum starts here.
+template <bool kFirst>
 void verticalPass(const CostVolume& costs, const PenaltyCases& cases, const ScanlinePenalties& penalties, int dy,
                   CostVolume& sum) {
     const int width = costs.width, height = costs.height, stride = costs.stride;
@@ -275,8 +279,8 @@ void verticalPass(const CostVolume& costs, const PenaltyCases& cases, const Scan
     }
     for (int step = 0; step < height; ++step) {
         const int y = dy > 0 ? step : height - 1 - step;
-        forEachStripe(width, [&](int, int begin, int end) {
-            for (int x = begin; x < end; ++x) {
+        {
+            for (int x = 0; x < width; ++x) {
                 const std::uint16_t* from[3];
                 std::uint16_t* out[3];
                 std::uint16_t minimum[3], p1[3], p2[3];
@@ -290,10 +294,10 @@ void verticalPass(const CostVolume& costs, const PenaltyCases& cases, const Scan
                     p1[i] = penalties.p1[c];
                     p2[i] = penalties.p2[c];
                 }
-                stepThreeAndAccumulate(costs.at(x, y), from, minimum, stride, p1, p2, out, sum.at(x, y));
+                stepThreeAndAccumulate<kFirst>(costs.at(x, y), from, minimum, stride, p1, p2, out, sum.at(x, y));
                 for (int i = 0; i < 3; ++i) currentMin[i][x] = minimum[i];
             }
-        });
+        }
         for (int i = 0; i < 3; ++i) {
             std::swap(previous[i], current[i]);
             std::swap(previousMin[i], currentMin[i]);
@@ -372,7 +376,7 @@ void scanlineStep(const std::uint16_t* cost, const std::uint16_t* previous, int 
 }
 
 void aggregateScanlines(const CostVolume& costs, const cv::Mat& bgr, const ScanlinePenalties& penalties,
-                        CostVolume& sum, int directions) {
+                        CostVolume& sum, int directions, CostVolume* spare) {
     CV_Assert(directions == 8 || directions == 4);
     CV_Assert(bgr.type() == CV_8UC3 && bgr.cols == costs.width && bgr.rows == costs.height);
     sum.create(costs.width, costs.height, costs.disparities);
@@ -380,12 +384,34 @@ void aggregateScanlines(const CostVolume& costs, const cv::Mat& bgr, const Scanl
     cases.compute(bgr, penalties.tau);
     // Three sweeps over the volume instead of eight.
     horizontalPass(costs, cases, penalties, sum);
-    if (directions == 8) {
-        verticalPass(costs, cases, penalties, 1, sum);
-        verticalPass(costs, cases, penalties, -1, sum);
-    } else {
+    if (directions == 4) {
         columnPass(costs, cases, penalties, sum);
+        return;
     }
+    // The down pass adds to the sum while the up pass, on the other thread, fills the spare
+    // volume; one more pass adds the two. The same sums whatever the thread count: no sum comes
+    // near saturation (Parameters caps the penalties), so the order of the additions is free.
+    thread_local CostVolume ownSpare;
+    CostVolume& up = spare ? *spare : ownSpare;
+    up.create(costs.width, costs.height, costs.disparities);
+    const PenaltyCases& sharedCases = cases;  // the tasks run on other threads: not their thread_local
+    cv::parallel_for_(cv::Range(0, 2), [&](const cv::Range& r) {
+        for (int task = r.start; task < r.end; ++task) {
+            if (task == 0) {
+                verticalPass<false>(costs, sharedCases, penalties, 1, sum);
+            } else {
+                verticalPass<true>(costs, sharedCases, penalties, -1, up);
+            }
+        }
+    }, 2);
+    forEachStripe(costs.height, [&](int, int begin, int end) {
+        for (int y = begin; y < end; ++y) {
+            std::uint16_t* out = sum.at(0, y);
+            const std::uint16_t* add = up.at(0, y);
+            const int count = costs.width * costs.stride;
+            for (int i = 0; i < count; i += kLanes) cv::v_store(out + i, cv::vx_load(out + i) + cv::vx_load(add + i));
+        }
+    });
 }
 
 void aggregateScanlinesReference(const CostVolume& costs, const cv::Mat& bgr, const ScanlinePenalties& penalties,

@@ -166,9 +166,10 @@ ScanlinePenalties scanlinePenalties(const Parameters& parameters);
 // Which of the three cases applies for D1 = D_c(p, p-r), D2 = D_c(p-r, p-2r).
 int penaltyCase(int d1, int d2, int tau);
 // sum(p, d) = sum over the directions r of L_r(p, d): all 8, or the 4 along the axes (no
-// diagonals).
+// diagonals). With 8, a volume the size of costs is needed as scratch: `spare` when given (the
+// caller may lend one it is not using), else one kept per thread.
 void aggregateScanlines(const CostVolume& costs, const cv::Mat& bgr, const ScanlinePenalties& penalties,
-                        CostVolume& sum, int directions = 8);
+                        CostVolume& sum, int directions = 8, CostVolume* spare = nullptr);
 void aggregateScanlinesReference(const CostVolume& costs, const cv::Mat& bgr, const ScanlinePenalties& penalties,
                                  CostVolume& sum, int directions = 8);
 // One step of one direction: L(d) from the previous pixel's Lprev. Exposed for tests.
