@@ -42,14 +42,15 @@ struct Direction {
 constexpr Direction kDirections[8] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, 1}, {-1, -1}, {1, -1}, {-1, 1}};
 
 // One step of the recurrence for all disparities of a pixel, fused with the sum over directions
-// (kFirst: the sum starts here). Returns min_d of the new L, the next step's min_t L(p-r, t).
+// (kFirst: the sum starts here; extra, when not null, is added to the sum as well). Returns min_d
+// of the new L, the next step's min_t L(p-r, t).
 // previous[-1] and previous[stride] must be readable and hold 0xFFFF (the guards of LineBuffers):
 // L(d-1) and L(d+1) are then plain unaligned loads, not lane shuffles, which on AVX2 cross the
 // two 128-bit halves and were the recurrence's bottleneck.
-template <bool kFirst>
+template <bool kFirst, bool kExtra = false>
 std::uint16_t stepAndAccumulate(const std::uint16_t* cost, const std::uint16_t* previous, std::uint16_t minPrevious,
                                 int stride, std::uint16_t p1, std::uint16_t p2, std::uint16_t* out,
-                                std::uint16_t* sum) {
+                                std::uint16_t* sum, const std::uint16_t* extra = nullptr) {
     const cv::v_uint16 vMin = cv::vx_setall_u16(minPrevious);
     const cv::v_uint16 vJump = vMin + cv::vx_setall_u16(p2);  // saturating
     const cv::v_uint16 vP1 = cv::vx_setall_u16(p1);
@@ -62,7 +63,9 @@ std::uint16_t stepAndAccumulate(const std::uint16_t* cost, const std::uint16_t* 
         m = cv::v_min(m, vJump);
         const cv::v_uint16 l = cv::vx_load(cost + d) + (m - vMin);
         cv::v_store(out + d, l);
-        cv::v_store(sum + d, kFirst ? l : cv::vx_load(sum + d) + l);
+        cv::v_uint16 total = kFirst ? l : cv::vx_load(sum + d) + l;
+        if (kExtra) total = total + cv::vx_load(extra + d);
+        cv::v_store(sum + d, total);
         newMin = cv::v_min(newMin, l);
     }
     return cv::v_reduce_min(newMin);
@@ -120,13 +123,16 @@ private:
 };
 
 // The first pixel of a line: L = C.
-template <bool kFirst>
-std::uint16_t startLine(const std::uint16_t* cost, int stride, std::uint16_t* out, std::uint16_t* sum) {
+template <bool kFirst, bool kExtra = false>
+std::uint16_t startLine(const std::uint16_t* cost, int stride, std::uint16_t* out, std::uint16_t* sum,
+                        const std::uint16_t* extra = nullptr) {
     cv::v_uint16 newMin = cv::vx_setall_u16(0xFFFF);
     for (int d = 0; d < stride; d += kLanes) {
         const cv::v_uint16 l = cv::vx_load(cost + d);
         cv::v_store(out + d, l);
-        cv::v_store(sum + d, kFirst ? l : cv::vx_load(sum + d) + l);
+        cv::v_uint16 total = kFirst ? l : cv::vx_load(sum + d) + l;
+        if (kExtra) total = total + cv::vx_load(extra + d);
+        cv::v_store(sum + d, total);
         newMin = cv::v_min(newMin, l);
     }
     return cv::v_reduce_min(newMin);
@@ -223,9 +229,11 @@ private:
 };
 
 // Left-to-right and right-to-left along every row: rows are independent, split over stripes.
-// This pass starts the sum.
+// kFirst: this pass starts the sum. extra, when given (only with kFirst false), is added to the
+// sum on the way back: the other vertical pass's directions, so no separate pass adds them.
+template <bool kFirst>
 void horizontalPass(const CostVolume& costs, const PenaltyCases& cases, const ScanlinePenalties& penalties,
-                    CostVolume& sum) {
+                    CostVolume& sum, const CostVolume* extra = nullptr) {
     const int width = costs.width, stride = costs.stride;
     forEachStripe(costs.height, [&](int, int begin, int end) {
         LineBuffers buffers;
@@ -235,12 +243,23 @@ void horizontalPass(const CostVolume& costs, const PenaltyCases& cases, const Sc
         for (int y = begin; y < end; ++y) {
             const std::uint8_t* rightwards = cases.row(0, y);
             const std::uint8_t* leftwards = cases.row(1, y);
-            std::uint16_t minimum = startLine<true>(costs.at(0, y), stride, previous, sum.at(0, y));
+            std::uint16_t minimum = startLine<kFirst>(costs.at(0, y), stride, previous, sum.at(0, y));
             for (int x = 1; x < width; ++x) {
                 const int c = rightwards[x];
-                minimum = stepAndAccumulate<true>(costs.at(x, y), previous, minimum, stride, penalties.p1[c],
-                                                  penalties.p2[c], current, sum.at(x, y));
+                minimum = stepAndAccumulate<kFirst>(costs.at(x, y), previous, minimum, stride, penalties.p1[c],
+                                                    penalties.p2[c], current, sum.at(x, y));
                 std::swap(previous, current);
+            }
+            if (extra) {
+                minimum = startLine<false, true>(costs.at(width - 1, y), stride, previous, sum.at(width - 1, y),
+                                                 extra->at(width - 1, y));
+                for (int x = width - 2; x >= 0; --x) {
+                    const int c = leftwards[x];
+                    minimum = stepAndAccumulate<false, true>(costs.at(x, y), previous, minimum, stride, penalties.p1[c],
+                                                             penalties.p2[c], current, sum.at(x, y), extra->at(x, y));
+                    std::swap(previous, current);
+                }
+                continue;
             }
             minimum = startLine<false>(costs.at(width - 1, y), stride, previous, sum.at(width - 1, y));
             for (int x = width - 2; x >= 0; --x) {
@@ -382,14 +401,15 @@ void aggregateScanlines(const CostVolume& costs, const cv::Mat& bgr, const Scanl
     sum.create(costs.width, costs.height, costs.disparities);
     thread_local PenaltyCases cases;  // reallocated only when the image size changes
     cases.compute(bgr, penalties.tau);
-    // Three sweeps over the volume instead of eight.
-    horizontalPass(costs, cases, penalties, sum);
     if (directions == 4) {
+        // Two sweeps over the volume instead of four.
+        horizontalPass<true>(costs, cases, penalties, sum);
         columnPass(costs, cases, penalties, sum);
         return;
     }
-    // The down pass adds to the sum while the up pass, on the other thread, fills the spare
-    // volume; one more pass adds the two. The same sums whatever the thread count: no sum comes
+    // Three sweeps over the volume instead of eight. The down pass starts the sum while the up
+    // pass, on the other thread, fills the spare volume; the horizontal pass then adds both
+    // directions of its own and the spare. The same sums whatever the thread count: no sum comes
     // near saturation (Parameters caps the penalties), so the order of the additions is free.
     thread_local CostVolume ownSpare;
     CostVolume& up = spare ? *spare : ownSpare;
@@ -397,21 +417,10 @@ void aggregateScanlines(const CostVolume& costs, const cv::Mat& bgr, const Scanl
     const PenaltyCases& sharedCases = cases;  // the tasks run on other threads: not their thread_local
     cv::parallel_for_(cv::Range(0, 2), [&](const cv::Range& r) {
         for (int task = r.start; task < r.end; ++task) {
-            if (task == 0) {
-                verticalPass<false>(costs, sharedCases, penalties, 1, sum);
-            } else {
-                verticalPass<true>(costs, sharedCases, penalties, -1, up);
-            }
+            verticalPass<true>(costs, sharedCases, penalties, task == 0 ? 1 : -1, task == 0 ? sum : up);
         }
     }, 2);
-    forEachStripe(costs.height, [&](int, int begin, int end) {
-        for (int y = begin; y < end; ++y) {
-            std::uint16_t* out = sum.at(0, y);
-            const std::uint16_t* add = up.at(0, y);
-            const int count = costs.width * costs.stride;
-            for (int i = 0; i < count; i += kLanes) cv::v_store(out + i, cv::vx_load(out + i) + cv::vx_load(add + i));
-        }
-    });
+    horizontalPass<false>(costs, cases, penalties, sum, &up);
 }
 
 void aggregateScanlinesReference(const CostVolume& costs, const cv::Mat& bgr, const ScanlinePenalties& penalties,
