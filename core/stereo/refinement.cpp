@@ -207,12 +207,24 @@ cv::Mat depthEdgeWindows(const cv::Mat& disparity, int radius) {
     cv::dilate(disparity, largest, box, {-1, -1}, 1, cv::BORDER_REPLICATE);
     cv::erode(disparity, smallest, box, {-1, -1}, 1, cv::BORDER_REPLICATE);
     cv::Mat straddles(disparity.size(), CV_8UC1);
+    constexpr int kLanes = cv::v_float32::nlanes;
+    const cv::v_float32 one = cv::vx_setall_f32(1.0f);
     for (int y = 0; y < disparity.rows; ++y) {
         const float* centre = disparity.ptr<float>(y);
         const float* hi = largest.ptr<float>(y);
         const float* lo = smallest.ptr<float>(y);
         auto* out = straddles.ptr<std::uint8_t>(y);
-        for (int x = 0; x < disparity.cols; ++x) {
+        int x = 0;
+        for (; x + 4 * kLanes <= disparity.cols; x += 4 * kLanes) {
+            cv::v_uint32 straddle[4];
+            for (int k = 0; k < 4; ++k) {
+                const cv::v_float32 c = cv::vx_load(centre + x + k * kLanes);
+                straddle[k] = cv::v_reinterpret_as_u32((cv::vx_load(hi + x + k * kLanes) - c > one) |
+                                                       (c - cv::vx_load(lo + x + k * kLanes) > one));
+            }
+            cv::v_store(out + x, cv::v_pack_b(straddle[0], straddle[1], straddle[2], straddle[3]));
+        }
+        for (; x < disparity.cols; ++x) {
             out[x] = (hi[x] - centre[x] > 1.0f || centre[x] - lo[x] > 1.0f) ? 255 : 0;
         }
     }
@@ -474,16 +486,23 @@ void refineSubpixelByIntensity(const cv::Mat& greyLeft, const cv::Mat& greyRight
             const std::uint8_t* edge = straddles.ptr<std::uint8_t>(y);
             for (int x = radius; x + radius < width; x += kLanes) {
                 const int lanes = std::min(kLanes, width - radius - x);
-                // Lanes past the row's last pixel start invalid and stay idle.
-                float startValues[kLanes];
-                std::int32_t refinable[kLanes];
-                for (int p = 0; p < kLanes; ++p) {
-                    startValues[p] = p < lanes ? out[x + p] : -1.0f;
-                    refinable[p] = p < lanes && edge[x + p] == 0 ? -1 : 0;
+                cv::v_float32 start, refinable;
+                if (lanes == kLanes) {
+                    start = cv::vx_load(out + x);
+                    refinable = cv::v_reinterpret_as_f32(cv::vx_load_expand_q(edge + x) == cv::vx_setzero_u32());
+                } else {
+                    // Lanes past the row's last pixel start invalid and stay idle.
+                    float startValues[kLanes];
+                    std::int32_t refinableValues[kLanes];
+                    for (int p = 0; p < kLanes; ++p) {
+                        startValues[p] = p < lanes ? out[x + p] : -1.0f;
+                        refinableValues[p] = p < lanes && edge[x + p] == 0 ? -1 : 0;
+                    }
+                    start = cv::vx_load(startValues);
+                    refinable = cv::v_reinterpret_as_f32(cv::vx_load(refinableValues));
                 }
-                const cv::v_float32 start = cv::vx_load(startValues);
                 cv::v_float32 d = start;
-                cv::v_float32 active = (start >= zero) & cv::v_reinterpret_as_f32(cv::vx_load(refinable));
+                cv::v_float32 active = (start >= zero) & refinable;
                 cv::v_float32 ok = active;
                 const cv::v_int32 column = cv::vx_setall_s32(x) + lane;
                 for (int iteration = 0; iteration < iterations && cv::v_check_any(active); ++iteration) {
@@ -547,9 +566,13 @@ void refineSubpixelByIntensity(const cv::Mat& greyLeft, const cv::Mat& greyRight
                     active = textured & ~(cv::v_abs(step) < converged);
                 }
                 const cv::v_float32 keep = ok & (cv::v_abs(d - start) <= vMaxChange);
-                float result[kLanes];
-                cv::v_store(result, cv::v_select(keep, d, start));
-                std::copy(result, result + lanes, out + x);
+                if (lanes == kLanes) {
+                    cv::v_store(out + x, cv::v_select(keep, d, start));
+                } else {
+                    float result[kLanes];
+                    cv::v_store(result, cv::v_select(keep, d, start));
+                    std::copy(result, result + lanes, out + x);
+                }
             }
         }
     });
