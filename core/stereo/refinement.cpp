@@ -201,12 +201,13 @@ namespace {
 
 // 255 where the (2r+1)² window around a pixel holds a disparity more than a pixel from the
 // centre's: the window's largest and smallest values (dilation and erosion) against the centre.
-cv::Mat depthEdgeWindows(const cv::Mat& disparity, int radius) {
+// disparity may be a band of rows of a larger map (straddles the same band of a map of its
+// size): OpenCV's filters read the rows around a submatrix, so a band's windows see them.
+void depthEdgeWindows(const cv::Mat& disparity, int radius, cv::Mat straddles) {
     const cv::Mat box = cv::getStructuringElement(cv::MORPH_RECT, {2 * radius + 1, 2 * radius + 1});
     cv::Mat largest, smallest;
     cv::dilate(disparity, largest, box, {-1, -1}, 1, cv::BORDER_REPLICATE);
     cv::erode(disparity, smallest, box, {-1, -1}, 1, cv::BORDER_REPLICATE);
-    cv::Mat straddles(disparity.size(), CV_8UC1);
     constexpr int kLanes = cv::v_float32::nlanes;
     const cv::v_float32 one = cv::vx_setall_f32(1.0f);
     for (int y = 0; y < disparity.rows; ++y) {
@@ -228,6 +229,11 @@ cv::Mat depthEdgeWindows(const cv::Mat& disparity, int radius) {
             out[x] = (hi[x] - centre[x] > 1.0f || centre[x] - lo[x] > 1.0f) ? 255 : 0;
         }
     }
+}
+
+cv::Mat depthEdgeWindows(const cv::Mat& disparity, int radius) {
+    cv::Mat straddles(disparity.size(), CV_8UC1);
+    depthEdgeWindows(disparity, radius, straddles);
     return straddles;
 }
 
@@ -437,7 +443,13 @@ void refineSubpixelByIntensity(const cv::Mat& greyLeft, const cv::Mat& greyRight
     cv::Mat& derivative = derivativeBuffer;
     cv::Mat& derivativeSlope = derivativeSlopeBuffer;
     for (cv::Mat* m : {&slope, &derivative, &derivativeSlope}) m->create(height, width, CV_32FC1);
+    cv::Mat straddles(disparity.size(), CV_8UC1);
+    // Before any pixel is refined, as in refineEachPixel, but a band of rows per stripe.
     forEachStripe(height, [&](int, int begin, int end) {
+        if (begin < end) {
+            const cv::Rect band(0, begin, width, end - begin);
+            depthEdgeWindows(disparity(band), radius, straddles(band));
+        }
         for (int y = begin; y < end; ++y) {
             const float* r = right.ptr<float>(y);
             float* s = slope.ptr<float>(y);
@@ -467,7 +479,6 @@ void refineSubpixelByIntensity(const cv::Mat& greyLeft, const cv::Mat& greyRight
         }
     });
 
-    const cv::Mat straddles = depthEdgeWindows(disparity, radius);
     std::int32_t laneValues[kLanes];
     for (int p = 0; p < kLanes; ++p) laneValues[p] = p;
     const cv::v_int32 lane = cv::vx_load(laneValues);
