@@ -15,6 +15,7 @@
 //    The matcher tests check the mean error at several fractions of a pixel.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <opencv2/imgproc.hpp>
 
@@ -200,21 +201,39 @@ namespace {
 
 // 255 where the (2r+1)² window around a pixel holds a disparity more than a pixel from the
 // centre's: the window's largest and smallest values (dilation and erosion) against the centre.
-cv::Mat depthEdgeWindows(const cv::Mat& disparity, int radius) {
+// disparity may be a band of rows of a larger map (straddles the same band of a map of its
+// size): OpenCV's filters read the rows around a submatrix, so a band's windows see them.
+void depthEdgeWindows(const cv::Mat& disparity, int radius, cv::Mat straddles) {
     const cv::Mat box = cv::getStructuringElement(cv::MORPH_RECT, {2 * radius + 1, 2 * radius + 1});
     cv::Mat largest, smallest;
     cv::dilate(disparity, largest, box, {-1, -1}, 1, cv::BORDER_REPLICATE);
     cv::erode(disparity, smallest, box, {-1, -1}, 1, cv::BORDER_REPLICATE);
-    cv::Mat straddles(disparity.size(), CV_8UC1);
+    constexpr int kLanes = cv::v_float32::nlanes;
+    const cv::v_float32 one = cv::vx_setall_f32(1.0f);
     for (int y = 0; y < disparity.rows; ++y) {
         const float* centre = disparity.ptr<float>(y);
         const float* hi = largest.ptr<float>(y);
         const float* lo = smallest.ptr<float>(y);
         auto* out = straddles.ptr<std::uint8_t>(y);
-        for (int x = 0; x < disparity.cols; ++x) {
+        int x = 0;
+        for (; x + 4 * kLanes <= disparity.cols; x += 4 * kLanes) {
+            cv::v_uint32 straddle[4];
+            for (int k = 0; k < 4; ++k) {
+                const cv::v_float32 c = cv::vx_load(centre + x + k * kLanes);
+                straddle[k] = cv::v_reinterpret_as_u32((cv::vx_load(hi + x + k * kLanes) - c > one) |
+                                                       (c - cv::vx_load(lo + x + k * kLanes) > one));
+            }
+            cv::v_store(out + x, cv::v_pack_b(straddle[0], straddle[1], straddle[2], straddle[3]));
+        }
+        for (; x < disparity.cols; ++x) {
             out[x] = (hi[x] - centre[x] > 1.0f || centre[x] - lo[x] > 1.0f) ? 255 : 0;
         }
     }
+}
+
+cv::Mat depthEdgeWindows(const cv::Mat& disparity, int radius) {
+    cv::Mat straddles(disparity.size(), CV_8UC1);
+    depthEdgeWindows(disparity, radius, straddles);
     return straddles;
 }
 
@@ -223,9 +242,10 @@ struct WindowSums {
     float e = 0.0f, g = 0.0f, eg = 0.0f, gg = 0.0f;
 };
 
-// The pixel loop both kernels share. sums(x, y, x0, t) returns the window sums with the right
+// The reference kernel's pixel loop. sums(x, y, x0, t) returns the window sums with the right
 // image sampled at x0 + t + dx (0 <= t < 1); everything else (which pixels, when to stop, what
-// to keep) is decided here, once.
+// to keep) is decided here. The optimised kernel takes the same decisions on vector lanes, with
+// the same operations.
 template <class Sums>
 void refineEachPixel(int width, int height, int radius, int iterations, float maxChange, cv::Mat& disparity,
                      const Sums& sums) {
@@ -274,6 +294,16 @@ void refineEachPixel(int width, int height, int radius, int iterations, float ma
     });
 }
 
+// a * b + c rounded as cv::v_fma rounds it (fused where the vector instruction is), so that a
+// pixel's sums do not depend on whether its window was summed in a vector lane or alone.
+inline float fmaAsVector(float a, float b, float c) {
+#if CV_FMA3 || (CV_NEON && defined(__aarch64__))
+    return std::fma(a, b, c);
+#else
+    return a * b + c;
+#endif
+}
+
 }  // namespace
 
 void refineSubpixelByIntensityReference(const cv::Mat& greyLeft, const cv::Mat& greyRight, int radius,
@@ -302,12 +332,99 @@ void refineSubpixelByIntensityReference(const cv::Mat& greyLeft, const cv::Mat& 
                     });
 }
 
-// The optimised kernel: the window's rows a vector at a time (cv::v_float32, lanes past the
-// window's width masked to 0). The right image's x-derivative is precomputed once,
-// g(i) = (R(i+1) - R(i-1)) / 2, so that the interpolated sample and derivative at x0 + t are both
-// lerps of neighbouring values: R(x0) + t (R(x0+1) - R(x0)) and g(x0) + t (g(x0+1) - g(x0)), the
-// reference's expressions rearranged. Images are copied into rows padded by one vector so that
-// whole-vector loads at the window's right edge stay inside.
+namespace {
+
+// What the optimised kernel reads besides the two images, one row per image row: the right
+// image's slope s(i) = R(i+1) - R(i), its x-derivative g(i) = (R(i+1) - R(i-1)) / 2 and that
+// one's slope g(i+1) - g(i). The interpolated sample and derivative at x0 + t are then
+// R(x0) + t s(x0) and g(x0) + t (g(x0+1) - g(x0)): the reference's expressions rearranged
+// (halving is exact, so only the reference's own rounding differs).
+struct RightRows {
+    const float* value;
+    const float* slope;
+    const float* derivative;
+    const float* derivativeSlope;
+};
+
+// The window sums of kLanes pixels, a pixel per lane.
+struct LaneSums {
+    cv::v_float32 e, g, eg, gg;
+};
+
+// The window sums of kLanes neighbouring pixels x + p at once, each lane summing in the
+// reference's order. Lane p's window starts at base + p, or at base + p - 1 where shifted (all
+// bits set): neighbouring pixels' disparities round up to the same integer or to neighbouring
+// ones, and both are then whole-vector loads. t as in refineEachPixel. kRadius > 0 fixes the
+// radius at compile time (the default window), so that the loops unroll.
+template <bool kAnyShifted, int kRadius>
+LaneSums windowSumsOfLanes(const cv::Mat& left, const RightRows* rows, int x, int y, int base, int anyRadius,
+                           const cv::v_float32& t, const cv::v_float32& shifted) {
+    const int radius = kRadius > 0 ? kRadius : anyRadius;
+    const int side = 2 * radius + 1;
+    LaneSums sums{cv::vx_setzero_f32(), cv::vx_setzero_f32(), cv::vx_setzero_f32(), cv::vx_setzero_f32()};
+    for (int dy = -radius; dy <= radius; ++dy) {
+        const float* l = left.ptr<float>(y + dy) + x - radius;
+        const RightRows& row = rows[dy + radius];
+        const int at = base - radius;
+        for (int c = 0; c < side; ++c) {
+            cv::v_float32 r = cv::vx_load(row.value + at + c), s = cv::vx_load(row.slope + at + c);
+            cv::v_float32 g = cv::vx_load(row.derivative + at + c), gs = cv::vx_load(row.derivativeSlope + at + c);
+            if constexpr (kAnyShifted) {
+                r = cv::v_select(shifted, cv::vx_load(row.value + at + c - 1), r);
+                s = cv::v_select(shifted, cv::vx_load(row.slope + at + c - 1), s);
+                g = cv::v_select(shifted, cv::vx_load(row.derivative + at + c - 1), g);
+                gs = cv::v_select(shifted, cv::vx_load(row.derivativeSlope + at + c - 1), gs);
+            }
+            const cv::v_float32 value = cv::v_fma(t, s, r);
+            const cv::v_float32 gradient = cv::v_fma(t, gs, g);
+            const cv::v_float32 e = cv::vx_load(l + c) - value;
+            sums.e += e;
+            sums.g += gradient;
+            sums.eg = cv::v_fma(e, gradient, sums.eg);
+            sums.gg = cv::v_fma(gradient, gradient, sums.gg);
+        }
+    }
+    return sums;
+}
+
+template <int kRadius>
+LaneSums windowSumsOfLanes(bool anyShifted, const cv::Mat& left, const RightRows* rows, int x, int y, int base,
+                           int radius, const cv::v_float32& t, const cv::v_float32& shifted) {
+    return anyShifted ? windowSumsOfLanes<true, kRadius>(left, rows, x, y, base, radius, t, shifted)
+                      : windowSumsOfLanes<false, kRadius>(left, rows, x, y, base, radius, t, shifted);
+}
+
+// The same sums for one pixel whose window starts at x0, for the pixels a group cannot take.
+WindowSums windowSumsOfPixel(const cv::Mat& left, const RightRows* rows, int x, int y, int x0, int radius, float t) {
+    WindowSums w;
+    for (int dy = -radius; dy <= radius; ++dy) {
+        const float* l = left.ptr<float>(y + dy);
+        const RightRows& row = rows[dy + radius];
+        for (int dx = -radius; dx <= radius; ++dx) {
+            const int i = x0 + dx;
+            const float value = fmaAsVector(t, row.slope[i], row.value[i]);
+            const float gradient = fmaAsVector(t, row.derivativeSlope[i], row.derivative[i]);
+            const float e = l[x + dx] - value;
+            w.e += e;
+            w.g += gradient;
+            w.eg = fmaAsVector(e, gradient, w.eg);
+            w.gg = fmaAsVector(gradient, gradient, w.gg);
+        }
+    }
+    return w;
+}
+
+}  // namespace
+
+// The optimised kernel: a vector lane per pixel, kLanes neighbouring pixels of a row at a time
+// (cv::v_float32), each lane summing its own window in the reference's order, so that no lane is
+// wasted on a window narrower than a vector and no horizontal reduction is needed. The steps,
+// stopping rules and max-change rule of refineEachPixel run on the lanes too, with the same
+// operations. A lane's window starts at x0 = x - ceil(d); neighbouring pixels on one surface have
+// disparities within a pixel or so of each other, so their windows start at consecutive columns
+// (one vector load) or one column earlier (a second load and a select). Pixels further off, the
+// last pixels of a row and groups whose loads would leave the image are summed one at a time with
+// the same arithmetic.
 void refineSubpixelByIntensity(const cv::Mat& greyLeft, const cv::Mat& greyRight, int radius, int iterations,
                                float maxChange, cv::Mat& disparity) {
     CV_Assert(greyLeft.type() == CV_32FC1 && greyRight.type() == CV_32FC1 && disparity.type() == CV_32FC1);
@@ -315,56 +432,160 @@ void refineSubpixelByIntensity(const cv::Mat& greyLeft, const cv::Mat& greyRight
     constexpr int kLanes = cv::v_float32::nlanes;
     const int width = greyLeft.cols, height = greyLeft.rows;
     const int side = 2 * radius + 1;
-    const int chunks = (side + kLanes - 1) / kLanes;
+    const float count = static_cast<float>(side * side);
+    const cv::Mat& left = greyLeft;
+    const cv::Mat& right = greyRight;
 
-    // Padded copies (reallocated only when the size changes). The stripes run on other threads,
-    // which must see the caller's buffers, not thread_local ones of their own: hence the
-    // references.
-    thread_local cv::Mat paddedLeft, paddedRight, paddedDerivative;
-    cv::Mat& left = paddedLeft;
-    cv::Mat& right = paddedRight;
-    cv::Mat& derivative = paddedDerivative;
-    const int paddedWidth = width + kLanes + 1;
-    for (cv::Mat* m : {&left, &right, &derivative}) {
-        m->create(height, paddedWidth, CV_32FC1);
-        (*m)(cv::Rect(width, 0, paddedWidth - width, height)).setTo(0.0f);
-    }
-    greyLeft.copyTo(left(cv::Rect(0, 0, width, height)));
-    greyRight.copyTo(right(cv::Rect(0, 0, width, height)));
-    for (int y = 0; y < height; ++y) {
-        const float* r = right.ptr<float>(y);
-        float* g = derivative.ptr<float>(y);
-        g[0] = 0.0f;
-        for (int x = 1; x + 1 < width; ++x) g[x] = 0.5f * (r[x + 1] - r[x - 1]);
-        if (width > 1) g[width - 1] = 0.0f;
-    }
-    // Lane masks of the window's columns, chunk by chunk.
-    std::vector<float> maskValues(static_cast<std::size_t>(chunks * kLanes));
-    for (int i = 0; i < chunks * kLanes; ++i) maskValues[static_cast<std::size_t>(i)] = i < side ? 1.0f : 0.0f;
+    // Reallocated only when the size changes. The stripes run on other threads, which must see
+    // the caller's buffers, not thread_local ones of their own: hence the references.
+    thread_local cv::Mat slopeBuffer, derivativeBuffer, derivativeSlopeBuffer;
+    cv::Mat& slope = slopeBuffer;
+    cv::Mat& derivative = derivativeBuffer;
+    cv::Mat& derivativeSlope = derivativeSlopeBuffer;
+    for (cv::Mat* m : {&slope, &derivative, &derivativeSlope}) m->create(height, width, CV_32FC1);
+    cv::Mat straddles(disparity.size(), CV_8UC1);
+    // Before any pixel is refined, as in refineEachPixel, but a band of rows per stripe.
+    forEachStripe(height, [&](int, int begin, int end) {
+        if (begin < end) {
+            const cv::Rect band(0, begin, width, end - begin);
+            depthEdgeWindows(disparity(band), radius, straddles(band));
+        }
+        for (int y = begin; y < end; ++y) {
+            const float* r = right.ptr<float>(y);
+            float* s = slope.ptr<float>(y);
+            float* g = derivative.ptr<float>(y);
+            float* gs = derivativeSlope.ptr<float>(y);
+            const cv::v_float32 half = cv::vx_setall_f32(0.5f);
+            int x = 1;
+            for (; x + kLanes < width; x += kLanes) {
+                const cv::v_float32 before = cv::vx_load(r + x - 1), after = cv::vx_load(r + x + 1);
+                cv::v_store(s + x, after - cv::vx_load(r + x));
+                cv::v_store(g + x, (after - before) * half);
+            }
+            for (; x + 1 < width; ++x) {
+                s[x] = r[x + 1] - r[x];
+                g[x] = 0.5f * (r[x + 1] - r[x - 1]);
+            }
+            // The first and last columns: no refined window reads a derivative there.
+            s[0] = width > 1 ? r[1] - r[0] : 0.0f;
+            s[width - 1] = 0.0f;
+            g[0] = 0.0f;
+            g[width - 1] = 0.0f;
+            for (x = 0; x + kLanes < width; x += kLanes) {
+                cv::v_store(gs + x, cv::vx_load(g + x + 1) - cv::vx_load(g + x));
+            }
+            for (; x + 1 < width; ++x) gs[x] = g[x + 1] - g[x];
+            gs[width - 1] = 0.0f;
+        }
+    });
 
-    refineEachPixel(width, height, radius, iterations, maxChange, disparity, [&](int x, int y, int x0, float t) {
-        const cv::v_float32 vt = cv::vx_setall_f32(t);
-        cv::v_float32 sumE = cv::vx_setzero_f32(), sumG = cv::vx_setzero_f32();
-        cv::v_float32 sumEG = cv::vx_setzero_f32(), sumGG = cv::vx_setzero_f32();
-        for (int dy = -radius; dy <= radius; ++dy) {
-            const float* l = left.ptr<float>(y + dy) + x - radius;
-            const float* r = right.ptr<float>(y + dy) + x0 - radius;
-            const float* g = derivative.ptr<float>(y + dy) + x0 - radius;
-            for (int c = 0; c < chunks * kLanes; c += kLanes) {
-                const cv::v_float32 mask = cv::vx_load(maskValues.data() + c);
-                const cv::v_float32 r0 = cv::vx_load(r + c), r1 = cv::vx_load(r + c + 1);
-                const cv::v_float32 g0 = cv::vx_load(g + c), g1 = cv::vx_load(g + c + 1);
-                const cv::v_float32 value = cv::v_fma(vt, r1 - r0, r0);
-                const cv::v_float32 gradient = cv::v_fma(vt, g1 - g0, g0) * mask;
-                const cv::v_float32 e = (cv::vx_load(l + c) - value) * mask;
-                sumE += e;
-                sumG += gradient;
-                sumEG = cv::v_fma(e, gradient, sumEG);
-                sumGG = cv::v_fma(gradient, gradient, sumGG);
+    std::int32_t laneValues[kLanes];
+    for (int p = 0; p < kLanes; ++p) laneValues[p] = p;
+    const cv::v_int32 lane = cv::vx_load(laneValues);
+    const cv::v_float32 zero = cv::vx_setzero_f32(), vCount = cv::vx_setall_f32(count);
+    const cv::v_float32 minVariance = cv::vx_setall_f32(1e-3f * count), converged = cv::vx_setall_f32(0.005f);
+    const cv::v_float32 vMaxChange = cv::vx_setall_f32(maxChange);
+    forEachStripe(height, [&](int, int begin, int end) {
+        std::vector<RightRows> rows(static_cast<std::size_t>(side));
+        for (int y = std::max(begin, radius); y < std::min(end, height - radius); ++y) {
+            for (int dy = -radius; dy <= radius; ++dy) {
+                rows[static_cast<std::size_t>(dy + radius)] =
+                    RightRows{right.ptr<float>(y + dy), slope.ptr<float>(y + dy), derivative.ptr<float>(y + dy),
+                              derivativeSlope.ptr<float>(y + dy)};
+            }
+            float* out = disparity.ptr<float>(y);
+            const std::uint8_t* edge = straddles.ptr<std::uint8_t>(y);
+            for (int x = radius; x + radius < width; x += kLanes) {
+                const int lanes = std::min(kLanes, width - radius - x);
+                cv::v_float32 start, refinable;
+                if (lanes == kLanes) {
+                    start = cv::vx_load(out + x);
+                    refinable = cv::v_reinterpret_as_f32(cv::vx_load_expand_q(edge + x) == cv::vx_setzero_u32());
+                } else {
+                    // Lanes past the row's last pixel start invalid and stay idle.
+                    float startValues[kLanes];
+                    std::int32_t refinableValues[kLanes];
+                    for (int p = 0; p < kLanes; ++p) {
+                        startValues[p] = p < lanes ? out[x + p] : -1.0f;
+                        refinableValues[p] = p < lanes && edge[x + p] == 0 ? -1 : 0;
+                    }
+                    start = cv::vx_load(startValues);
+                    refinable = cv::v_reinterpret_as_f32(cv::vx_load(refinableValues));
+                }
+                cv::v_float32 d = start;
+                cv::v_float32 active = (start >= zero) & refinable;
+                cv::v_float32 ok = active;
+                const cv::v_int32 column = cv::vx_setall_s32(x) + lane;
+                for (int iteration = 0; iteration < iterations && cv::v_check_any(active); ++iteration) {
+                    // As refineEachPixel: where the window starts, and whether it stays inside.
+                    const cv::v_float32 xr = cv::v_cvt_f32(column) - d;
+                    const cv::v_int32 x0 = cv::v_floor(xr);
+                    const cv::v_float32 t = xr - cv::v_cvt_f32(x0);
+                    const cv::v_float32 inside = cv::v_reinterpret_as_f32(
+                        (x0 >= cv::vx_setall_s32(radius + 1)) & (x0 < cv::vx_setall_s32(width - radius - 2)));
+                    ok &= inside | ~active;
+                    active &= inside;
+                    if (!cv::v_check_any(active)) break;
+                    // Where each window starts relative to its lane; the lanes starting at
+                    // highest + p or one column earlier go together, as whole vectors from
+                    // highest - radius - 1 to highest + kLanes - 1 + radius.
+                    const cv::v_int32 activeInt = cv::v_reinterpret_as_s32(active);
+                    const cv::v_int32 relative = x0 - lane;
+                    const int highest = cv::v_reduce_max(
+                        cv::v_select(activeInt, relative, cv::vx_setall_s32(std::numeric_limits<int>::min())));
+                    const bool loadable = lanes == kLanes && highest - radius - 1 >= 0 && highest + kLanes + radius <= width;
+                    const cv::v_int32 behind = cv::vx_setall_s32(highest) - relative;
+                    const cv::v_int32 together =
+                        loadable ? activeInt & (behind <= cv::vx_setall_s32(1)) : cv::vx_setzero_s32();
+                    const cv::v_float32 shifted = cv::v_reinterpret_as_f32(together & (behind == cv::vx_setall_s32(1)));
+                    LaneSums w{zero, zero, zero, zero};
+                    if (cv::v_check_any(together)) {
+                        w = radius == 2 ? windowSumsOfLanes<2>(cv::v_check_any(shifted), left, rows.data(), x, y,
+                                                               highest, radius, t, shifted)
+                                        : windowSumsOfLanes<0>(cv::v_check_any(shifted), left, rows.data(), x, y,
+                                                               highest, radius, t, shifted);
+                    }
+                    const cv::v_int32 alone = activeInt & ~together;
+                    if (cv::v_check_any(alone)) {
+                        float e[kLanes], g[kLanes], eg[kLanes], gg[kLanes], tValues[kLanes];
+                        std::int32_t aloneValues[kLanes], x0Values[kLanes];
+                        cv::v_store(e, w.e);
+                        cv::v_store(g, w.g);
+                        cv::v_store(eg, w.eg);
+                        cv::v_store(gg, w.gg);
+                        cv::v_store(tValues, t);
+                        cv::v_store(aloneValues, alone);
+                        cv::v_store(x0Values, x0);
+                        for (int p = 0; p < kLanes; ++p) {
+                            if (aloneValues[p] == 0) continue;
+                            const WindowSums sums =
+                                windowSumsOfPixel(left, rows.data(), x + p, y, x0Values[p], radius, tValues[p]);
+                            e[p] = sums.e;
+                            g[p] = sums.g;
+                            eg[p] = sums.eg;
+                            gg[p] = sums.gg;
+                        }
+                        w = LaneSums{cv::vx_load(e), cv::vx_load(g), cv::vx_load(eg), cv::vx_load(gg)};
+                    }
+                    // As refineEachPixel: the zero-mean Gauss-Newton step and when to stop.
+                    const cv::v_float32 varG = w.gg - w.g * w.g / vCount;
+                    const cv::v_float32 textured = active & ~(varG < minVariance);
+                    ok &= textured | ~active;
+                    const cv::v_float32 covEG = w.eg - w.e * w.g / vCount;
+                    const cv::v_float32 step = covEG / varG;
+                    d = cv::v_select(textured, d - step, d);
+                    active = textured & ~(cv::v_abs(step) < converged);
+                }
+                const cv::v_float32 keep = ok & (cv::v_abs(d - start) <= vMaxChange);
+                if (lanes == kLanes) {
+                    cv::v_store(out + x, cv::v_select(keep, d, start));
+                } else {
+                    float result[kLanes];
+                    cv::v_store(result, cv::v_select(keep, d, start));
+                    std::copy(result, result + lanes, out + x);
+                }
             }
         }
-        return WindowSums{cv::v_reduce_sum(sumE), cv::v_reduce_sum(sumG), cv::v_reduce_sum(sumEG),
-                          cv::v_reduce_sum(sumGG)};
     });
 }
 

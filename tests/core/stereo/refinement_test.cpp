@@ -1,3 +1,5 @@
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 #include <opencv2/imgproc.hpp>
@@ -200,10 +202,14 @@ TEST(Subpixel, IntensityRefinementStopsAtDepthEdges) {
 }
 
 TEST(Subpixel, IntensityRefinementOptimisedMatchesReference) {
-    // A smooth random texture seen 4.4 px to the left, started from noisy integer-ish values with
-    // a few invalid pixels and depth edges, at an awkward size and three window radii. The kernels
-    // sum in different orders, so they agree to float rounding: a pixel whose decision sits on a
-    // threshold (converged, textureless, too far) may go the other way, hardly any may.
+    // A smooth random texture seen 4.4 px to the left, at an awkward size and three window radii,
+    // started from values with a few invalid pixels and depth edges: noisy values within 0.3 px
+    // of the truth (neighbouring windows start at the same column or one apart), a slow wave of
+    // ±0.6 px (windows of eight neighbouring pixels start up to three columns apart) and integers
+    // (the fraction 0: every window on a column), both allowed to move by 1 px. The optimised
+    // kernel's interpolation is rearranged and fused, so the two agree to float rounding: a pixel
+    // whose decision sits on a threshold (converged, textureless, too far) may go the other way,
+    // hardly any may.
     cv::Mat texture = test::randomImage(131, 47, CV_8UC1, 9);
     cv::GaussianBlur(texture, texture, cv::Size(0, 0), 1.2);
     cv::Mat right;
@@ -212,25 +218,35 @@ TEST(Subpixel, IntensityRefinementOptimisedMatchesReference) {
     cv::Mat greyLeft, greyRight;
     texture.convertTo(greyLeft, CV_32F);
     right.convertTo(greyRight, CV_32F);
-    cv::Mat start(texture.size(), CV_32FC1);
-    cv::RNG rng(3);
-    for (int y = 0; y < start.rows; ++y)
-        for (int x = 0; x < start.cols; ++x) {
-            start.at<float>(y, x) = rng.uniform(0, 500) == 0 ? -1.0f : 4.4f + static_cast<float>(rng.uniform(-0.3, 0.3));
-        }
-    start.colRange(70, 73).setTo(12.0f);
-    for (int radius : {1, 2, 3}) {
-        cv::Mat fast = start.clone(), plain = start.clone();
-        refineSubpixelByIntensity(greyLeft, greyRight, radius, 2, 0.5f, fast);
-        refineSubpixelByIntensityReference(greyLeft, greyRight, radius, 2, 0.5f, plain);
-        int differing = 0, refined = 0;
+    enum class Start { Noisy, Wave, Integers };
+    for (const Start kind : {Start::Noisy, Start::Wave, Start::Integers}) {
+        cv::Mat start(texture.size(), CV_32FC1);
+        cv::RNG rng(3);
         for (int y = 0; y < start.rows; ++y)
             for (int x = 0; x < start.cols; ++x) {
-                if (std::abs(fast.at<float>(y, x) - plain.at<float>(y, x)) > 1e-3f) ++differing;
-                if (plain.at<float>(y, x) != start.at<float>(y, x)) ++refined;
+                const double noise = rng.uniform(-0.3, 0.3);
+                double value = 4.4 + noise;
+                if (kind == Start::Wave) value = 4.4 + 0.6 * std::sin(0.35 * x + 0.2 * y) + noise / 6.0;
+                if (kind == Start::Integers) value = std::round(value);
+                start.at<float>(y, x) = rng.uniform(0, 500) == 0 ? -1.0f : static_cast<float>(value);
             }
-        EXPECT_GT(refined, static_cast<int>(start.total() / 2)) << radius;  // the comparison means something
-        EXPECT_LE(differing, static_cast<int>(start.total() / 1000)) << radius;
+        start.colRange(70, 73).setTo(12.0f);
+        const float maxChange = kind == Start::Noisy ? 0.5f : 1.0f;
+        const int caseNumber = static_cast<int>(kind);
+        for (int radius : {1, 2, 3}) {
+            cv::Mat fast = start.clone(), plain = start.clone();
+            refineSubpixelByIntensity(greyLeft, greyRight, radius, 2, maxChange, fast);
+            refineSubpixelByIntensityReference(greyLeft, greyRight, radius, 2, maxChange, plain);
+            int differing = 0, refined = 0;
+            for (int y = 0; y < start.rows; ++y)
+                for (int x = 0; x < start.cols; ++x) {
+                    if (std::abs(fast.at<float>(y, x) - plain.at<float>(y, x)) > 1e-3f) ++differing;
+                    if (plain.at<float>(y, x) != start.at<float>(y, x)) ++refined;
+                }
+            // The comparison means something.
+            EXPECT_GT(refined, static_cast<int>(start.total() / 2)) << caseNumber << " " << radius;
+            EXPECT_LE(differing, static_cast<int>(start.total() / 1000)) << caseNumber << " " << radius;
+        }
     }
 }
 
