@@ -218,46 +218,127 @@ struct Divider {
     static constexpr int magic = static_cast<int>(((1LL << (16 + shift)) + D - 1) / D);
 };
 
-// One row's thresholds for a window of Count + 2 values, from its box sums and erosion and
-// dilation (trimmed sum = sum - min - max), for kChunk-aligned runs of `width` pixels. Stored
-// with the sign bit flipped (grey ^ 0x80): the encoder compares as signed bytes, one instruction
-// on x86, where unsigned byte comparisons take three.
-template <int Count>
-void thresholdRow(const std::uint16_t* sum, const std::uint8_t* lo8, const std::uint8_t* hi8, int alpha, int width,
-                  std::int8_t* hiOut, std::int8_t* loOut) {
-    if (alpha < 0) {  // no use and no fast path: the plain formula
-        for (int x = 0; x < width; ++x) {
-            const Thresholds t = thresholdsFor(sum[x] - lo8[x] - hi8[x], Count, alpha);
-            hiOut[x] = static_cast<std::int8_t>(t.hi ^ 0x80);
-            loOut[x] = static_cast<std::int8_t>(t.lo ^ 0x80);
-        }
-        return;
-    }
-    // From alpha = 256 on every neighbour is inside the band (hi 255, lo 0); the clamp keeps
-    // alpha * Count and the sums below within 16 bits.
-    const int band = std::min(alpha, 256) * Count;
-    const cv::v_uint16 vBand = cv::vx_setall_u16(static_cast<std::uint16_t>(band));
-    const cv::v_uint16 vRoundUp = cv::vx_setall_u16(Count - 1);
-    const cv::v_uint16 vLimit = cv::vx_setall_u16(256 * Count - 1);  // quotient 255
-    const cv::v_uint16 vMagic = cv::vx_setall_u16(static_cast<std::uint16_t>(Divider<Count>::magic));
-    const cv::v_uint8 vSign = cv::vx_setall_u8(0x80);
+// The sums, minima and maxima of the 7 and the 9 grey levels of every padded column around one
+// row (rows -3 .. 3 and -4 .. 4): the first, vertical half of the window statistics. Sums of up to
+// 81 grey levels fit 16 bits.
+struct ColumnStats {
+    std::vector<std::uint16_t> sum7, sum9;
+    std::vector<std::uint8_t> min7, min9, max7, max9;
+
+    explicit ColumnStats(int columns)
+        : sum7(columns), sum9(columns), min7(columns), min9(columns), max7(columns), max9(columns) {}
+};
+
+// Column statistics of padded columns [0, columns), a multiple of kChunk, around the padded row
+// starting at `row`.
+void columnStats(const std::uint8_t* row, std::ptrdiff_t step, int columns, ColumnStats& out) {
     constexpr int kHalf = cv::v_uint16::nlanes;
-    const auto divide = [&](const cv::v_uint16& v) { return cv::v_mul_hi(v, vMagic) >> Divider<Count>::shift; };
-    for (int x = 0; x < width; x += kChunk) {
-        cv::v_uint16 lo0, lo1, hi0, hi1;
-        cv::v_expand(cv::vx_load(lo8 + x), lo0, lo1);
-        cv::v_expand(cv::vx_load(hi8 + x), hi0, hi1);
-        // Saturating 16-bit arithmetic: the trimmed sum is >= 0; up is below 2^16; down saturates
-        // at 0 exactly where the reference's ceiling is 0.
-        const cv::v_uint16 trimmed0 = cv::vx_load(sum + x) - lo0 - hi0;
-        const cv::v_uint16 trimmed1 = cv::vx_load(sum + x + kHalf) - lo1 - hi1;
-        const cv::v_uint16 up0 = cv::v_min(trimmed0 + vBand, vLimit), up1 = cv::v_min(trimmed1 + vBand, vLimit);
-        const cv::v_uint16 down0 = cv::v_min((trimmed0 - vBand) + vRoundUp, vLimit);
-        const cv::v_uint16 down1 = cv::v_min((trimmed1 - vBand) + vRoundUp, vLimit);
-        cv::v_store(reinterpret_cast<std::uint8_t*>(hiOut + x), cv::v_pack(divide(up0), divide(up1)) ^ vSign);
-        cv::v_store(reinterpret_cast<std::uint8_t*>(loOut + x), cv::v_pack(divide(down0), divide(down1)) ^ vSign);
+    for (int x = 0; x < columns; x += kChunk) {
+        cv::v_uint8 r[9];
+        for (int i = 0; i < 9; ++i) r[i] = cv::vx_load(row + (i - 4) * step + x);
+        cv::v_uint8 lo = r[1], hi = r[1];
+        cv::v_uint16 sum0, sum1, e0, e1;
+        cv::v_expand(r[1], sum0, sum1);
+        for (int i = 2; i < 8; ++i) {
+            lo = cv::v_min(lo, r[i]);
+            hi = cv::v_max(hi, r[i]);
+            cv::v_expand(r[i], e0, e1);
+            sum0 = sum0 + e0;
+            sum1 = sum1 + e1;
+        }
+        cv::v_store(out.min7.data() + x, lo);
+        cv::v_store(out.max7.data() + x, hi);
+        cv::v_store(out.sum7.data() + x, sum0);
+        cv::v_store(out.sum7.data() + x + kHalf, sum1);
+        for (int i : {0, 8}) {
+            lo = cv::v_min(lo, r[i]);
+            hi = cv::v_max(hi, r[i]);
+            cv::v_expand(r[i], e0, e1);
+            sum0 = sum0 + e0;
+            sum1 = sum1 + e1;
+        }
+        cv::v_store(out.min9.data() + x, lo);
+        cv::v_store(out.max9.data() + x, hi);
+        cv::v_store(out.sum9.data() + x, sum0);
+        cv::v_store(out.sum9.data() + x + kHalf, sum1);
     }
 }
+
+// A window's trimmed sum (two halves of 16-bit lanes) for the kChunk pixels from padded column x:
+// the horizontal half, over the column statistics.
+template <int Radius>
+void trimmedSums(const std::uint16_t* sum, const std::uint8_t* lo8, const std::uint8_t* hi8, int x,
+                 cv::v_uint16 trimmed[2]) {
+    constexpr int kHalf = cv::v_uint16::nlanes;
+    cv::v_uint16 s0 = cv::vx_load(sum + x - Radius), s1 = cv::vx_load(sum + x - Radius + kHalf);
+    cv::v_uint8 lo = cv::vx_load(lo8 + x - Radius), hi = cv::vx_load(hi8 + x - Radius);
+    for (int dx = 1 - Radius; dx <= Radius; ++dx) {
+        s0 = s0 + cv::vx_load(sum + x + dx);
+        s1 = s1 + cv::vx_load(sum + x + dx + kHalf);
+        lo = cv::v_min(lo, cv::vx_load(lo8 + x + dx));
+        hi = cv::v_max(hi, cv::vx_load(hi8 + x + dx));
+    }
+    cv::v_uint16 lo0, lo1, hi0, hi1;
+    cv::v_expand(lo, lo0, lo1);
+    cv::v_expand(hi, hi0, hi1);
+    // The sum holds the minimum and the maximum: no saturation.
+    trimmed[0] = s0 - lo0 - hi0;
+    trimmed[1] = s1 - lo1 - hi1;
+}
+
+// The two thresholds of a window of Count + 2 values from trimmed sums, with the sign bit flipped
+// (grey ^ 0x80): the encoder compares as signed bytes, one instruction on x86, where unsigned byte
+// comparisons take three.
+template <int Count>
+class ThresholdMaths {
+public:
+    explicit ThresholdMaths(int alpha)
+        : alpha_(alpha),
+          // From alpha = 256 on every neighbour is inside the band (hi 255, lo 0); the clamp keeps
+          // alpha * Count and the sums below within 16 bits.
+          band_(cv::vx_setall_u16(static_cast<std::uint16_t>(std::clamp(alpha, 0, 256) * Count))),
+          roundUp_(cv::vx_setall_u16(Count - 1)),
+          limit_(cv::vx_setall_u16(256 * Count - 1)),  // quotient 255
+          magic_(cv::vx_setall_u16(static_cast<std::uint16_t>(Divider<Count>::magic))) {}
+
+    void operator()(const cv::v_uint16 trimmed[2], cv::v_int8& hi, cv::v_int8& lo) const {
+        if (alpha_ < 0) {  // no use and no fast path: the plain formula
+            scalar(trimmed, hi, lo);
+            return;
+        }
+        // Saturating 16-bit arithmetic: up stays below 2^16; down saturates at 0 exactly where
+        // the reference's ceiling is 0.
+        cv::v_uint16 up[2], down[2];
+        for (int h = 0; h < 2; ++h) {
+            up[h] = divide(cv::v_min(trimmed[h] + band_, limit_));
+            down[h] = divide(cv::v_min((trimmed[h] - band_) + roundUp_, limit_));
+        }
+        const cv::v_uint8 sign = cv::vx_setall_u8(0x80);
+        hi = cv::v_reinterpret_as_s8(cv::v_pack(up[0], up[1]) ^ sign);
+        lo = cv::v_reinterpret_as_s8(cv::v_pack(down[0], down[1]) ^ sign);
+    }
+
+private:
+    cv::v_uint16 divide(const cv::v_uint16& v) const { return cv::v_mul_hi(v, magic_) >> Divider<Count>::shift; }
+
+    void scalar(const cv::v_uint16 trimmed[2], cv::v_int8& hi, cv::v_int8& lo) const {
+        constexpr int kHalf = cv::v_uint16::nlanes;
+        std::uint16_t sums[kChunk];
+        cv::v_store(sums, trimmed[0]);
+        cv::v_store(sums + kHalf, trimmed[1]);
+        std::int8_t his[kChunk], los[kChunk];
+        for (int i = 0; i < kChunk; ++i) {
+            const Thresholds t = thresholdsFor(sums[i], Count, alpha_);
+            his[i] = static_cast<std::int8_t>(t.hi ^ 0x80);
+            los[i] = static_cast<std::int8_t>(t.lo ^ 0x80);
+        }
+        hi = cv::vx_load(his);
+        lo = cv::vx_load(los);
+    }
+
+    int alpha_;
+    cv::v_uint16 band_, roundUp_, limit_, magic_;
+};
 
 // Interleaves the lanes of a and b within each 128-bit block. The transpose below needs no more
 // (each block keeps its own 16 pixels throughout); AVX2's unpack instructions work so, whereas
@@ -325,7 +406,7 @@ void storeWordPairs(const cv::v_uint8 rows[16], std::uint64_t* words, int offset
 }
 
 // The padded images the encoder reads, all of one step: grey with the sign bit flipped (see
-// thresholdRow), the edge-corner bits, and the same in the upper nibble for the odd neighbours.
+// ThresholdMaths), the edge-corner bits, and the same in the upper nibble for the odd neighbours.
 struct PaddedInputs {
     cv::Mat grey, ec, ecHigh;
 };
@@ -408,62 +489,35 @@ void improvedCensus(const cv::Mat& grey, const cv::Mat& edgeCorner, int alpha, c
     CV_Assert(grey.type() == CV_8UC1 && edgeCorner.type() == CV_8UC1 && grey.size() == edgeCorner.size());
     out.create(grey.cols, grey.rows, kImprovedCensusWords);
     const int cols = grey.cols;
-    // Extra columns on the right so the last chunk of a row can load whole vectors.
+    // Extra columns on the right so the last chunk of a row, its window statistics included, can
+    // load whole vectors.
     cv::Mat padded;
     PaddedInputs in;
-    cv::copyMakeBorder(grey, padded, kPad, kPad, kPad, kPad + kChunk, cv::BORDER_REPLICATE);
-    cv::copyMakeBorder(edgeCorner, in.ec, kPad, kPad, kPad, kPad + kChunk, cv::BORDER_REPLICATE);
+    cv::copyMakeBorder(grey, padded, kPad, kPad, kPad, kPad + 2 * kChunk, cv::BORDER_REPLICATE);
+    cv::copyMakeBorder(edgeCorner, in.ec, kPad, kPad, kPad, kPad + 2 * kChunk, cv::BORDER_REPLICATE);
     in.ecHigh = shiftedToHighNibble(in.ec);
-    // Window sums by box filter, minima and maxima by erosion and dilation: vectorised in OpenCV.
-    // Only the pixels (and the extra columns) are filtered: the border around them in `padded`
-    // is the replicated one the filters would make. Sums of up to 81 grey levels fit 16 bits.
-    const cv::Mat pixels = padded(cv::Rect(kPad, kPad, cols + kChunk, grey.rows));
-    cv::Mat sum7, sum9, min7, min9, max7, max9;
-    cv::boxFilter(pixels, sum7, CV_16U, {7, 7}, {-1, -1}, false, cv::BORDER_REPLICATE);
-    cv::boxFilter(pixels, sum9, CV_16U, {9, 9}, {-1, -1}, false, cv::BORDER_REPLICATE);
-    const cv::Mat box7 = cv::getStructuringElement(cv::MORPH_RECT, {7, 7});
-    const cv::Mat box9 = cv::getStructuringElement(cv::MORPH_RECT, {9, 9});
-    cv::erode(pixels, min7, box7, {-1, -1}, 1, cv::BORDER_REPLICATE);
-    cv::erode(pixels, min9, box9, {-1, -1}, 1, cv::BORDER_REPLICATE);
-    cv::dilate(pixels, max7, box7, {-1, -1}, 1, cv::BORDER_REPLICATE);
-    cv::dilate(pixels, max9, box9, {-1, -1}, 1, cv::BORDER_REPLICATE);
     cv::bitwise_xor(padded, cv::Scalar::all(0x80), in.grey);
-    CV_Assert(in.grey.step == in.ec.step && in.ec.step == in.ecHigh.step);
+    CV_Assert(padded.step == in.grey.step && in.grey.step == in.ec.step && in.ec.step == in.ecHigh.step);
     const std::ptrdiff_t step = static_cast<std::ptrdiff_t>(in.grey.step);
     std::vector<int> offsets;
     for (int radius : {3, 4})
         for (const cv::Point& o : windowOffsets(radius)) offsets.push_back(static_cast<int>(o.y * step + o.x));
+    // Padded columns the chunks' windows cover.
+    const int statColumns = (cols + kChunk - 1) / kChunk * kChunk + kChunk;
+    CV_Assert(statColumns <= padded.cols);
     const bool masked = !windowMask.empty();
     forEachStripe(grey.rows, [&](int, int begin, int end) {
-        const int width = cols + kChunk;
-        std::vector<std::int8_t> thresholds(4 * static_cast<std::size_t>(width));
-        std::int8_t* hi7 = thresholds.data();
-        std::int8_t* lo7 = hi7 + width;
-        std::int8_t* hi9 = lo7 + width;
-        std::int8_t* lo9 = hi9 + width;
-        std::vector<std::uint8_t> needs(masked ? 2 * static_cast<std::size_t>(width) : 0, 0);
-        std::uint8_t* needs7 = needs.data();
-        std::uint8_t* needs9 = needs7 + (masked ? width : 0);
+        // Window sums, minima and maxima per row, vertical then horizontal, in 16- and 8-bit
+        // vectors: several times fewer instructions than box filters, erosions and dilations of
+        // the whole image, and no images of them.
+        ColumnStats stats(statColumns);
+        const ThresholdMaths<47> thresholds7(alpha);
+        const ThresholdMaths<79> thresholds9(alpha);
         std::uint64_t tail[kChunk * kImprovedCensusWords];  // the last, partial chunk of a row
         const cv::v_uint8 all = cv::vx_setall_u8(0xFF), none = cv::vx_setzero_u8();
         for (int y = begin; y < end; ++y) {
-            thresholdRow<47>(sum7.ptr<std::uint16_t>(y), min7.ptr<std::uint8_t>(y), max7.ptr<std::uint8_t>(y), alpha,
-                             cols, hi7, lo7);
-            thresholdRow<79>(sum9.ptr<std::uint16_t>(y), min9.ptr<std::uint8_t>(y), max9.ptr<std::uint8_t>(y), alpha,
-                             cols, hi9, lo9);
-            if (masked) {
-                const std::uint8_t* mask = windowMask.ptr<std::uint8_t>(y);
-                int x = 0;
-                for (; x + kChunk <= cols; x += kChunk) {
-                    const cv::v_uint8 wants7 = cv::vx_load(mask + x) != none;
-                    cv::v_store(needs7 + x, wants7);
-                    cv::v_store(needs9 + x, ~wants7);
-                }
-                for (; x < cols; ++x) {
-                    needs7[x] = mask[x] != 0 ? 0xFF : 0;
-                    needs9[x] = mask[x] != 0 ? 0 : 0xFF;
-                }
-            }
+            columnStats(padded.ptr<std::uint8_t>(y + kPad), step, statColumns, stats);
+            const std::uint8_t* mask = masked ? windowMask.ptr<std::uint8_t>(y) : nullptr;
             const std::ptrdiff_t rowCentre = (y + kPad) * step + kPad;
             const ChunkCentre rowStart{in.grey.ptr<std::int8_t>() + rowCentre, in.ec.ptr<std::uint8_t>() + rowCentre,
                                        in.ecHigh.ptr<std::uint8_t>() + rowCentre};
@@ -471,13 +525,27 @@ void improvedCensus(const cv::Mat& grey, const cv::Mat& edgeCorner, int alpha, c
                 const int count = std::min(kChunk, cols - x0);
                 const ChunkCentre at{rowStart.grey + x0, rowStart.ec + x0, rowStart.ecHigh + x0};
                 std::uint64_t* words = count == kChunk ? out.at(x0, y) : tail;
-                WindowChunk w7{cv::vx_load(hi7 + x0), cv::vx_load(lo7 + x0), all, true};
-                WindowChunk w9{cv::vx_load(hi9 + x0), cv::vx_load(lo9 + x0), all, true};
+                cv::v_uint16 trimmed[2];
+                WindowChunk w7{cv::vx_setzero_s8(), cv::vx_setzero_s8(), all, true};
+                WindowChunk w9 = w7;
                 if (masked) {
-                    w7.need = cv::vx_load(needs7 + x0);
-                    w9.need = cv::vx_load(needs9 + x0);
+                    // (Lanes past the end of a row may want either window: they are not stored.)
+                    std::uint8_t partial[kChunk] = {};
+                    if (count < kChunk) std::copy_n(mask + x0, count, partial);
+                    w7.need = cv::vx_load(count == kChunk ? mask + x0 : partial) != none;
+                    w9.need = ~w7.need;
                     w7.any = cv::v_check_any(w7.need);
                     w9.any = cv::v_check_any(w9.need);
+                }
+                if (w7.any) {
+                    trimmedSums<3>(stats.sum7.data(), stats.min7.data(), stats.max7.data(), x0 + kPad, trimmed);
+                    thresholds7(trimmed, w7.hi, w7.lo);
+                }
+                if (w9.any) {
+                    trimmedSums<4>(stats.sum9.data(), stats.min9.data(), stats.max9.data(), x0 + kPad, trimmed);
+                    thresholds9(trimmed, w9.hi, w9.lo);
+                }
+                if (masked) {
                     encodeChunk<true>(at, offsets.data(), w7, w9, words);
                 } else {
                     encodeChunk<false>(at, offsets.data(), w7, w9, words);
