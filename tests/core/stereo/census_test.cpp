@@ -86,6 +86,34 @@ TEST(ImprovedCensus, OptimisedEqualsReference) {
     }
 }
 
+// The encoder codes 16 or 32 pixels at once (by vector width) and skips a window no pixel of a
+// chunk wants: widths below, at and around both chunk sizes, masks that want one window
+// everywhere, alpha at 0 and beyond the grey range, and images whose thresholds reach 0 and 255.
+TEST(ImprovedCensus, OptimisedEqualsReferenceAtChunkEdges) {
+    const cv::Size sizes[] = {{1, 1}, {5, 3}, {15, 4}, {16, 6}, {17, 5}, {31, 9}, {32, 7}, {33, 8}, {64, 5}, {97, 11}};
+    int seed = 11;
+    for (const cv::Size size : sizes) {
+        cv::Mat smooth = test::randomImage(size.width, size.height, CV_8UC1, ++seed);
+        cv::Mat binary(size, CV_8UC1);
+        cv::randu(binary, 0, 2);
+        binary *= 255;
+        cv::Mat dark = cv::Mat::zeros(size, CV_8UC1), bright(size, CV_8UC1, cv::Scalar(255));
+        cv::Mat ec(size, CV_8UC1);
+        cv::randu(ec, 0, 4);
+        cv::Mat mixed(size, CV_8UC1);
+        cv::randu(mixed, 0, 2);
+        const cv::Mat masks[] = {cv::Mat(), mixed, cv::Mat::ones(size, CV_8UC1), cv::Mat::zeros(size, CV_8UC1)};
+        for (const cv::Mat& grey : {smooth, binary, dark, bright})
+            for (const cv::Mat& mask : masks)
+                for (int alpha : {0, 1, 5, 300}) {
+                    CensusImage fast, plain;
+                    improvedCensus(grey, ec, alpha, mask, fast);
+                    improvedCensusReference(grey, ec, alpha, mask, plain);
+                    ASSERT_EQ(fast.data, plain.data) << size << " alpha " << alpha << " mask " << !mask.empty();
+                }
+    }
+}
+
 TEST(MeiCensus, CentreComparisons) {
     cv::Mat grey(7, 9, CV_8UC1, cv::Scalar(100));
     grey.at<std::uint8_t>(0, 0) = 10;  // first neighbour in the 9x7 window: darker, bit 61
