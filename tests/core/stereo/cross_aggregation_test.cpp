@@ -109,5 +109,34 @@ TEST(CrossAggregation, OptimisedEqualsReference) {
     }
 }
 
+TEST(CrossAggregation, OptimisedEqualsReferenceOnNarrowImages) {
+    // The vertical pass sums blocks of neighbouring columns of each of the 16 stripes: widths that
+    // leave stripes of 1-3, 4-7 and 8 or more columns, 3 iterations (both orders, then the first
+    // again) and an axis without padding (32) besides a padded one (5).
+    for (const cv::Size size : {cv::Size(37, 29), cv::Size(101, 17), cv::Size(203, 41)}) {
+        const cv::Mat noise = test::randomImage(size.width, size.height, CV_8UC3, 5);
+        cv::Mat smooth;
+        cv::GaussianBlur(noise, smooth, cv::Size(0, 0), 2.0);
+        for (const cv::Mat& image : {noise, smooth}) {
+            CrossArms arms;
+            computeCrossArms(image, Parameters{}, arms);
+            for (const int disparities : {5, 32}) {
+                CostVolume fast, plain, scratch;
+                fast.create(size.width, size.height, disparities);
+                cv::RNG rng(7);
+                for (auto& c : fast.data) c = static_cast<std::uint16_t>(rng.uniform(0, 3 * kCostScale + 1));
+                for (int y = 0; y < size.height; ++y)
+                    for (int x = 0; x < size.width; ++x) {
+                        std::fill(fast.at(x, y) + disparities, fast.at(x, y) + fast.stride, kPadCost);
+                    }
+                plain = fast;
+                aggregateCross(arms, 3, fast, scratch);
+                aggregateCrossReference(arms, 3, plain);
+                EXPECT_EQ(fast.data, plain.data) << size << " " << disparities;
+            }
+        }
+    }
+}
+
 }  // namespace
 }  // namespace icewatch::stereo::detail
