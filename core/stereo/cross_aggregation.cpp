@@ -12,7 +12,8 @@
 // second can weight means by counts and divide by the whole region exactly.
 //
 // Horizontal sums come from a per-row prefix sum, vertical sums from a per-column one (32-bit);
-// both run over the padded disparity axis 8 lanes at a time.
+// both take the padded disparity axis one vector of lanes at a time, so the prefix sums of a line
+// stay in the nearest cache.
 #include <algorithm>
 #include <cstdlib>
 #include <utility>
@@ -85,10 +86,12 @@ cv::v_uint16 meanLanes(const cv::v_uint32& lo, const cv::v_uint32& hi, const cv:
 
 void restorePadding(CostVolume& volume) {
     if (volume.stride == volume.disparities) return;
-    for (int y = 0; y < volume.height; ++y)
-        for (int x = 0; x < volume.width; ++x) {
-            std::fill(volume.at(x, y) + volume.disparities, volume.at(x, y) + volume.stride, kPadCost);
-        }
+    forEachStripe(volume.height, [&](int, int begin, int end) {
+        for (int y = begin; y < end; ++y)
+            for (int x = 0; x < volume.width; ++x) {
+                std::fill(volume.at(x, y) + volume.disparities, volume.at(x, y) + volume.stride, kPadCost);
+            }
+    });
 }
 
 }  // namespace
@@ -198,111 +201,179 @@ namespace {
 // vertical arm; vertical-first: the vertical arms of the pixels on p's horizontal arm.
 bool horizontalFirst(int iteration) { return iteration % 2 == 0; }
 
-// Pixel count of each arm line (both arms + p), CV_16UC1: the weights of the second pass.
-cv::Mat lineCounts(const cv::Mat& a, const cv::Mat& b) {
-    cv::Mat counts(a.size(), CV_16UC1);
-    for (int y = 0; y < a.rows; ++y)
-        for (int x = 0; x < a.cols; ++x) {
-            counts.at<std::uint16_t>(y, x) =
-                static_cast<std::uint16_t>(a.at<std::uint8_t>(y, x) + b.at<std::uint8_t>(y, x) + 1);
-        }
-    return counts;
-}
+// Where each pixel's window lies in the prefix sums of its line and how its sum becomes a mean:
+// prefix entries `from` and `to` (both pre-multiplied by the entry's size) and 1 / pixel count.
+struct Windows {
+    std::vector<std::int32_t> from, to;
+    std::vector<float> inverse;
+    std::vector<std::uint16_t> weight;        // per pixel (weighted passes)
+    std::vector<std::uint32_t> weightPrefix;  // per line, scratch
 
-// One step of a prefix sum over the padded disparity axis: after = before + weight * cost.
-// 32-bit sums that may wrap: differences of wrapped sums stay exact as every window sum fits.
-void addToPrefix(const std::uint16_t* cost, std::uint16_t weight, const std::uint32_t* before, std::uint32_t* after,
-                 int stride) {
-    const cv::v_uint16 w = cv::vx_setall_u16(weight);
-    for (int d = 0; d < stride; d += kLanes) {
-        cv::v_uint32 lo, hi;
-        if (weight == 1) {
-            cv::v_expand(cv::vx_load(cost + d), lo, hi);
-        } else {
-            cv::v_mul_expand(cv::vx_load(cost + d), w, lo, hi);
+    void resize(std::size_t pixels) {
+        from.resize(pixels);
+        to.resize(pixels);
+        inverse.resize(pixels);
+        weight.resize(pixels);
+        weightPrefix.resize(pixels + 1);
+    }
+};
+
+// Windows of `lines` neighbouring lines of n pixels each, pixel i of line k at index i * lines + k:
+// arms a (towards 0) and b (towards n) at a[i * armStep + k], b likewise; kWeighted: the pixel
+// weights are in windows.weight, else 1.
+template <bool kWeighted>
+void setWindows(const std::uint8_t* a, const std::uint8_t* b, std::ptrdiff_t armStep, int n, int lines,
+                Windows& windows) {
+    for (int k = 0; k < lines; ++k) {
+        if (kWeighted) {
+            windows.weightPrefix[0] = 0;
+            for (int i = 0; i < n; ++i) {
+                const auto at = static_cast<std::size_t>(i);
+                windows.weightPrefix[at + 1] =
+                    windows.weightPrefix[at] + windows.weight[static_cast<std::size_t>(i * lines + k)];
+            }
         }
-        cv::v_store(after + d, cv::vx_load(before + d) + lo);
-        cv::v_store(after + d + kLanes32, cv::vx_load(before + d + kLanes32) + hi);
+        for (int i = 0; i < n; ++i) {
+            const int i0 = i - a[i * armStep + k], i1 = i + b[i * armStep + k] + 1;
+            const auto count = kWeighted ? windows.weightPrefix[static_cast<std::size_t>(i1)] -
+                                               windows.weightPrefix[static_cast<std::size_t>(i0)]
+                                         : static_cast<std::uint32_t>(i1 - i0);
+            const auto j = static_cast<std::size_t>(i * lines + k);
+            windows.from[j] = (i0 * lines + k) * 2 * kLanes32;
+            windows.to[j] = (i1 * lines + k) * 2 * kLanes32;
+            windows.inverse[j] = 1.0f / static_cast<float>(count);
+        }
     }
 }
 
-// The rounded mean of a window from its two prefix sums: out = (end - begin) / count.
-void meanFromPrefix(const std::uint32_t* begin, const std::uint32_t* end, std::uint32_t count, int stride,
-                    std::uint16_t* out) {
-    const cv::v_float32 inverse = cv::vx_setall_f32(1.0f / static_cast<float>(count));
+// Means over the windows of kLines neighbouring lines of n pixels: pixel i of line k has its
+// costs at cost + i * pixelStep + k * lineStep and its mean goes to the same place in out (which
+// may be cost: a vector of lanes is written only after the whole line of it is summed). The
+// disparity axis goes one vector at a time, so the prefix sums of the lines (32-bit, wrapping:
+// differences of wrapped sums stay exact as every window sum fits) take (n + 1) * kLines * 64 bytes
+// with AVX2 and stay in the nearest cache.
+template <bool kWeighted, int kLines>
+void lineMeans(const std::uint16_t* cost, std::uint16_t* out, std::ptrdiff_t pixelStep, std::ptrdiff_t lineStep,
+               int n, int stride, const Windows& windows, std::vector<std::uint32_t>& prefix) {
+    constexpr int kEntry = 2 * kLanes32;  // one vector of 16-bit lanes as 32-bit sums
+    prefix.resize(static_cast<std::size_t>(n + 1) * kLines * kEntry);
+    std::uint32_t* const sums = prefix.data();
+    const std::int32_t* const from = windows.from.data();
+    const std::int32_t* const to = windows.to.data();
+    const float* const inverse = windows.inverse.data();
+    const std::uint16_t* const weight = windows.weight.data();
     for (int d = 0; d < stride; d += kLanes) {
-        const cv::v_uint32 lo = cv::vx_load(end + d) - cv::vx_load(begin + d);
-        const cv::v_uint32 hi = cv::vx_load(end + d + kLanes32) - cv::vx_load(begin + d + kLanes32);
-        cv::v_store(out + d, meanLanes(lo, hi, inverse));
+        cv::v_uint32 lo[kLines], hi[kLines];
+        for (int k = 0; k < kLines; ++k) {
+            lo[k] = hi[k] = cv::vx_setzero_u32();
+            cv::v_store(sums + k * kEntry, lo[k]);
+            cv::v_store(sums + k * kEntry + kLanes32, hi[k]);
+        }
+        std::uint32_t* after = sums + kLines * kEntry;
+        for (int i = 0; i < n; ++i) {
+            const std::uint16_t* c = cost + i * pixelStep + d;
+            for (int k = 0; k < kLines; ++k, after += kEntry) {
+                cv::v_uint32 a, b;
+                if constexpr (kWeighted) {
+                    cv::v_mul_expand(cv::vx_load(c + k * lineStep), cv::vx_setall_u16(weight[i * kLines + k]), a, b);
+                } else {
+                    cv::v_expand(cv::vx_load(c + k * lineStep), a, b);
+                }
+                lo[k] += a;
+                hi[k] += b;
+                cv::v_store(after, lo[k]);
+                cv::v_store(after + kLanes32, hi[k]);
+            }
+        }
+        for (int i = 0; i < n; ++i) {
+            std::uint16_t* o = out + i * pixelStep + d;
+            for (int k = 0; k < kLines; ++k) {
+                const int j = i * kLines + k;
+                const std::uint32_t* begin = sums + from[j];
+                const std::uint32_t* end = sums + to[j];
+                const cv::v_uint32 a = cv::vx_load(end) - cv::vx_load(begin);
+                const cv::v_uint32 b = cv::vx_load(end + kLanes32) - cv::vx_load(begin + kLanes32);
+                cv::v_store(o + k * lineStep, meanLanes(a, b, cv::vx_setall_f32(inverse[j])));
+            }
+        }
     }
 }
 
 // Weighted mean along each pixel's horizontal arm, in place: out(p) = Σ w(q) c(q) / Σ w(q), q on
-// the arm; weights empty means 1. Per-row prefix sums, rows split over stripes.
-void horizontalMeans(const CrossArms& arms, const cv::Mat& weights, CostVolume& costs) {
+// the arm; kWeighted: w(q) is q's vertical line count, else 1. Rows split over stripes.
+template <bool kWeighted>
+void horizontalMeans(const CrossArms& arms, CostVolume& costs) {
     const int width = costs.width, stride = costs.stride;
     forEachStripe(costs.height, [&](int, int begin, int end) {
         // Per thread, grown once for the largest image (no allocation per pair).
-        thread_local std::vector<std::uint32_t> prefix, weightPrefix;
-        prefix.resize(static_cast<std::size_t>(width + 1) * stride);
-        weightPrefix.resize(static_cast<std::size_t>(width + 1));
-        weightPrefix[0] = 0;
-        std::fill(prefix.begin(), prefix.begin() + stride, 0u);
+        thread_local Windows windows;
+        thread_local std::vector<std::uint32_t> prefix;
+        windows.resize(static_cast<std::size_t>(width));
         for (int y = begin; y < end; ++y) {
-            const std::uint16_t* w = weights.empty() ? nullptr : weights.ptr<std::uint16_t>(y);
-            for (int x = 0; x < width; ++x) {
-                const std::uint16_t n = w ? w[x] : std::uint16_t{1};
-                const auto i = static_cast<std::size_t>(x);
-                weightPrefix[i + 1] = weightPrefix[i] + n;
-                addToPrefix(costs.at(x, y), n, prefix.data() + i * stride, prefix.data() + (i + 1) * stride, stride);
+            if (kWeighted) {
+                const std::uint8_t* up = arms.up.ptr<std::uint8_t>(y);
+                const std::uint8_t* down = arms.down.ptr<std::uint8_t>(y);
+                for (int x = 0; x < width; ++x) {
+                    windows.weight[static_cast<std::size_t>(x)] = static_cast<std::uint16_t>(up[x] + down[x] + 1);
+                }
             }
-            const std::uint8_t* left = arms.left.ptr<std::uint8_t>(y);
-            const std::uint8_t* right = arms.right.ptr<std::uint8_t>(y);
-            for (int x = 0; x < width; ++x) {
-                const auto x0 = static_cast<std::size_t>(x - left[x]), x1 = static_cast<std::size_t>(x + right[x] + 1);
-                meanFromPrefix(prefix.data() + x0 * stride, prefix.data() + x1 * stride,
-                               weightPrefix[x1] - weightPrefix[x0], stride, costs.at(x, y));
-            }
+            setWindows<kWeighted>(arms.left.ptr<std::uint8_t>(y), arms.right.ptr<std::uint8_t>(y), 1, width, 1,
+                                  windows);
+            std::uint16_t* row = costs.at(0, y);
+            lineMeans<kWeighted, 1>(row, row, stride, 0, width, stride, windows, prefix);
         }
     });
 }
 
-// Weighted mean along each pixel's vertical arm, costs -> out (weights empty means 1). Per-column
-// prefix sums, so each pixel costs one difference whatever its arm length; columns split over
-// stripes. A block of neighbouring columns is summed together: walking one column alone would jump
-// a whole image row in memory for every 128 bytes it reads.
+// Weighted mean along each pixel's vertical arm, costs -> out; kWeighted: w(q) is q's horizontal
+// line count, else 1. Columns split over stripes. A block of neighbouring columns is summed
+// together: walking one column alone would jump a whole image row in memory for every vector it
+// reads.
 constexpr int kColumnBlock = 8;
-void verticalMeans(const CrossArms& arms, const cv::Mat& weights, const CostVolume& costs, CostVolume& out) {
-    const int width = costs.width, height = costs.height, stride = costs.stride;
-    forEachStripe(width, [&](int, int begin, int end) {
-        thread_local std::vector<std::uint32_t> prefix, weightPrefix;
-        const auto pitch = static_cast<std::size_t>(kColumnBlock) * stride;  // one row of the block
-        prefix.resize(static_cast<std::size_t>(height + 1) * pitch);
-        weightPrefix.resize(static_cast<std::size_t>(height + 1) * kColumnBlock);
-        std::fill(prefix.begin(), prefix.begin() + static_cast<std::ptrdiff_t>(pitch), 0u);
-        std::fill(weightPrefix.begin(), weightPrefix.begin() + kColumnBlock, 0u);
-        for (int x0 = begin; x0 < end; x0 += kColumnBlock) {
-            const int columns = std::min(kColumnBlock, end - x0);
-            for (int y = 0; y < height; ++y) {
-                const auto i = static_cast<std::size_t>(y);
-                for (int k = 0; k < columns; ++k) {
-                    const std::uint16_t n = weights.empty() ? std::uint16_t{1} : weights.at<std::uint16_t>(y, x0 + k);
-                    weightPrefix[(i + 1) * kColumnBlock + k] = weightPrefix[i * kColumnBlock + k] + n;
-                    addToPrefix(costs.at(x0 + k, y), n, prefix.data() + i * pitch + k * stride,
-                                prefix.data() + (i + 1) * pitch + k * stride, stride);
-                }
+
+// The kLines columns from x0 on.
+template <bool kWeighted, int kLines>
+void columnMeans(const CrossArms& arms, const CostVolume& costs, CostVolume& out, int x0, Windows& windows,
+                 std::vector<std::uint32_t>& prefix) {
+    const int height = costs.height;
+    if (kWeighted) {
+        for (int y = 0; y < height; ++y) {
+            const std::uint8_t* left = arms.left.ptr<std::uint8_t>(y) + x0;
+            const std::uint8_t* right = arms.right.ptr<std::uint8_t>(y) + x0;
+            for (int k = 0; k < kLines; ++k) {
+                windows.weight[static_cast<std::size_t>(y * kLines + k)] =
+                    static_cast<std::uint16_t>(left[k] + right[k] + 1);
             }
-            for (int y = 0; y < height; ++y) {
-                const std::uint8_t* up = arms.up.ptr<std::uint8_t>(y) + x0;
-                const std::uint8_t* down = arms.down.ptr<std::uint8_t>(y) + x0;
-                for (int k = 0; k < columns; ++k) {
-                    const auto y0 = static_cast<std::size_t>(y - up[k]);
-                    const auto y1 = static_cast<std::size_t>(y + down[k] + 1);
-                    meanFromPrefix(prefix.data() + y0 * pitch + k * stride, prefix.data() + y1 * pitch + k * stride,
-                                   weightPrefix[y1 * kColumnBlock + k] - weightPrefix[y0 * kColumnBlock + k], stride,
-                                   out.at(x0 + k, y));
-                }
+        }
+    }
+    const auto armStep = static_cast<std::ptrdiff_t>(arms.up.step[0]);
+    setWindows<kWeighted>(arms.up.ptr<std::uint8_t>() + x0, arms.down.ptr<std::uint8_t>() + x0, armStep, height,
+                          kLines, windows);
+    const auto rowStep = static_cast<std::ptrdiff_t>(costs.width) * costs.stride;
+    lineMeans<kWeighted, kLines>(costs.at(x0, 0), out.at(x0, 0), rowStep, costs.stride, height, costs.stride, windows,
+                                 prefix);
+}
+
+template <bool kWeighted>
+void verticalMeans(const CrossArms& arms, const CostVolume& costs, CostVolume& out) {
+    forEachStripe(costs.width, [&](int, int begin, int end) {
+        thread_local Windows windows;
+        thread_local std::vector<std::uint32_t> prefix;
+        windows.resize(static_cast<std::size_t>(costs.height) * kColumnBlock);
+        int x = begin;
+        for (; end - x >= kColumnBlock; x += kColumnBlock) {
+            columnMeans<kWeighted, kColumnBlock>(arms, costs, out, x, windows, prefix);
+        }
+        // The rest: a smaller block, overlapping done columns if need be (harmless, as the pass
+        // does not read what it writes), else one column at a time.
+        constexpr int kSmallBlock = kColumnBlock / 2;
+        if (x < end && end - begin >= kSmallBlock) {
+            for (; end - x >= kSmallBlock; x += kSmallBlock) {
+                columnMeans<kWeighted, kSmallBlock>(arms, costs, out, x, windows, prefix);
             }
+            if (x < end) columnMeans<kWeighted, kSmallBlock>(arms, costs, out, end - kSmallBlock, windows, prefix);
+        } else {
+            for (; x < end; ++x) columnMeans<kWeighted, 1>(arms, costs, out, x, windows, prefix);
         }
     });
 }
@@ -311,15 +382,13 @@ void verticalMeans(const CrossArms& arms, const cv::Mat& weights, const CostVolu
 
 void aggregateCross(const CrossArms& arms, int iterations, CostVolume& costs, CostVolume& scratch) {
     scratch.create(costs.width, costs.height, costs.disparities);
-    const cv::Mat horizontalCounts = lineCounts(arms.left, arms.right);
-    const cv::Mat verticalCounts = lineCounts(arms.up, arms.down);
     for (int iteration = 0; iteration < iterations; ++iteration) {
         if (horizontalFirst(iteration)) {
-            horizontalMeans(arms, cv::Mat(), costs);
-            verticalMeans(arms, horizontalCounts, costs, scratch);
+            horizontalMeans<false>(arms, costs);
+            verticalMeans<true>(arms, costs, scratch);
         } else {
-            verticalMeans(arms, cv::Mat(), costs, scratch);
-            horizontalMeans(arms, verticalCounts, scratch);
+            verticalMeans<false>(arms, costs, scratch);
+            horizontalMeans<true>(arms, scratch);
         }
         std::swap(costs.data, scratch.data);
     }
