@@ -104,11 +104,18 @@ void censusAndLookups(const std::uint64_t* left, const std::uint64_t* right, int
                       const std::uint16_t* gradientIndex, std::uint16_t* cell) {
     std::uint64_t l[Words];
     std::copy(left, left + Words, l);
-    for (int d = 0; d < valid; ++d, right -= step) {
-        int c = census[hamming(l, right, std::make_index_sequence<Words>{})] + colour[cell[d]];
+    auto one = [&](int d, const std::uint64_t* r) {
+        int c = census[hamming(l, r, std::make_index_sequence<Words>{})] + colour[cell[d]];
         if constexpr (Gradient) c += gradient[gradientIndex[d]];
         cell[d] = static_cast<std::uint16_t>(c);
+    };
+    // Two disparities per step: the loop's own work is a good part of so short a body.
+    int d = 0;
+    for (; d + 1 < valid; d += 2, right -= 2 * step) {
+        one(d, right);
+        one(d + 1, right - step);
     }
+    if (d < valid) one(d, right);
 }
 
 // The fused cost of one method. census(l, r) gives its Census term from the two pixels' codes;
