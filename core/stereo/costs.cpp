@@ -6,12 +6,14 @@
 //
 // The optimised kernel reverses the right row so that the right pixels x - d, d = 0, 1, ... are
 // contiguous: the absolute differences of colour and gradient then run a vector of disparities at
-// a time (OpenCV universal intrinsics: 32 with AVX2, 16 with SSE or NEON); the table lookups and
-// the Census popcounts stay scalar.
+// a time (OpenCV universal intrinsics: 32 with AVX2, 16 with SSE or NEON), and so does turning
+// them into the index of one table holding both terms. The Census popcounts and the table lookups
+// stay scalar: the CPUs it runs on have a fast scalar popcount, and a vector gather is no faster
+// than scalar loads from tables this small.
 #include <algorithm>
 #include <bit>
 #include <cmath>
-#include <type_traits>
+#include <utility>
 
 #include "core/common/simd.hpp"
 
@@ -38,6 +40,83 @@ std::vector<std::uint16_t> robustTable(int size, double rawPerIndex, double lamb
     return table;
 }
 
+constexpr int kVec8 = cv::v_uint8::nlanes;  // the widest vector: 32 with AVX2, 16 with SSE or NEON
+static_assert(kDisparityAlign % cv::v_uint16::nlanes == 0, "a cell holds whole 16-bit vectors");
+
+// Planar copies of a row, reversed, with kVec8 zero bytes after the end for whole-vector loads.
+struct ReversedRow {
+    std::vector<std::uint8_t> planes[6];
+
+    void fill(const cv::Mat& bgr, const cv::Mat& gradient, int y, int width) {
+        // Sized once per stripe; the padding stays zero.
+        const auto size = static_cast<std::size_t>(width + kVec8);
+        for (auto& plane : planes)
+            if (plane.size() != size) plane.assign(size, 0);
+        reverse(bgr.ptr<cv::Vec3b>(y), width, planes);
+        if (!gradient.empty()) reverse(gradient.ptr<cv::Vec3b>(y), width, planes + 3);
+    }
+    static void reverse(const cv::Vec3b* row, int width, std::vector<std::uint8_t>* out) {
+        std::uint8_t* p0 = out[0].data() + width - 1;
+        std::uint8_t* p1 = out[1].data() + width - 1;
+        std::uint8_t* p2 = out[2].data() + width - 1;
+        for (int x = 0; x < width; ++x) {
+            p0[-x] = row[x][0];
+            p1[-x] = row[x][1];
+            p2[-x] = row[x][2];
+        }
+    }
+};
+
+// Sum over three planes of |value_c - plane_c[j + i]| for the lanes i = 0..kVec8-1, in two halves.
+inline void absSums(const std::vector<std::uint8_t>* planes, const cv::v_uint8* value, std::size_t j,
+                    cv::v_uint16& lo, cv::v_uint16& hi) {
+    cv::v_uint16 lo0, hi0, lo1, hi1, lo2, hi2;
+    cv::v_expand(cv::v_absdiff(value[0], cv::vx_load(planes[0].data() + j)), lo0, hi0);
+    cv::v_expand(cv::v_absdiff(value[1], cv::vx_load(planes[1].data() + j)), lo1, hi1);
+    cv::v_expand(cv::v_absdiff(value[2], cv::vx_load(planes[2].data() + j)), lo2, hi2);
+    lo = lo0 + lo1 + lo2;
+    hi = hi0 + hi1 + hi2;
+}
+
+// A robust table that stops growing at index `last` (from there on it repeats table[last]).
+int saturationIndex(const std::vector<std::uint16_t>& table) {
+    int last = static_cast<int>(table.size()) - 1;
+    while (last > 0 && table[static_cast<std::size_t>(last - 1)] == table.back()) --last;
+    return last;
+}
+
+// Hamming distance of Words code words, written out word by word (the compiler keeps a short loop
+// otherwise, and the left words in memory instead of registers).
+template <std::size_t... W>
+int hamming(const std::uint64_t* l, const std::uint64_t* r, std::index_sequence<W...>) {
+    return (std::popcount(l[W] ^ r[W]) + ...);
+}
+
+// The scalar part of the kernel, one left pixel: Census distance, its term and the colour term(s)
+// per disparity. The left code's Words words stay in registers; right pixel x - d is right - d *
+// step. On entry cell[d] holds the colour term's index (the vector part writes it there, which
+// spares the loop a pointer): colour[cell[d]] is the colour term, with the gradient term folded in
+// or added from gradient[gradientIndex[d]] when Gradient.
+template <int Words, bool Gradient>
+void censusAndLookups(const std::uint64_t* left, const std::uint64_t* right, int step, int valid,
+                      const std::uint16_t* census, const std::uint16_t* colour, const std::uint16_t* gradient,
+                      const std::uint16_t* gradientIndex, std::uint16_t* cell) {
+    std::uint64_t l[Words];
+    std::copy(left, left + Words, l);
+    auto one = [&](int d, const std::uint64_t* r) {
+        int c = census[hamming(l, r, std::make_index_sequence<Words>{})] + colour[cell[d]];
+        if constexpr (Gradient) c += gradient[gradientIndex[d]];
+        cell[d] = static_cast<std::uint16_t>(c);
+    };
+    // Two disparities per step: the loop's own work is a good part of so short a body.
+    int d = 0;
+    for (; d + 1 < valid; d += 2, right -= 2 * step) {
+        one(d, right);
+        one(d + 1, right - step);
+    }
+    if (d < valid) one(d, right);
+}
+
 // The fused cost of one method. census(l, r) gives its Census term from the two pixels' codes;
 // colour and gradient terms come from the sums of absolute differences over the three channels.
 struct PaperTerms {
@@ -49,9 +128,61 @@ struct PaperTerms {
           census9(robustTable(4 * 80 + 1, 1.0, p.lambdaCensus)),
           ad(robustTable(3 * 255 + 1, 1.0, p.lambdaAd)),                  // C_AD: sum over R, G, B
           gradient(robustTable(3 * 255 + 1, 1.0 / (3.0 * kGradientSteps), p.lambdaGradient)),  // mean over R, G, B
-          invalid(kPaperInvalidCost) {}
+          invalid(kPaperInvalidCost) {
+        adLast = saturationIndex(ad);
+        gradientLast = saturationIndex(gradient);
+        const int rows = adLast + 1, columns = gradientLast + 1;
+        fused = rows * columns <= kMaxFusedEntries;
+        if (fused) {
+            adGradient.resize(static_cast<std::size_t>(rows * columns));
+            for (int a = 0; a < rows; ++a)
+                for (int g = 0; g < columns; ++g)
+                    adGradient[static_cast<std::size_t>(a * columns + g)] = static_cast<std::uint16_t>(
+                        ad[static_cast<std::size_t>(a)] + gradient[static_cast<std::size_t>(g)]);
+        }
+    }
+
+    // The AD and gradient terms summed in one table, adGradient[min(C_AD, adLast) * (gradientLast
+    // + 1) + min(C_grad, gradientLast)]: one lookup per pair instead of two. Both terms saturate
+    // early (at 111 and 84 with the default λs: 19 KB), so it stays in L1; beyond kMaxFusedEntries
+    // (λs so large that it would not) fused is false and the two tables are looked up apart.
+    static constexpr int kMaxFusedEntries = 1 << 14;
+    std::vector<std::uint16_t> adGradient;
+    int adLast = 0, gradientLast = 0;
+    bool fused = false;
 
     static constexpr bool kUsesGradient = true;
+
+    // Where the lookups of the optimised kernel read, from the sums of absolute differences.
+    void indices(const cv::v_uint16& adSum, const cv::v_uint16& gradSum, std::uint16_t* index,
+                 std::uint16_t* gradientIndex) const {
+        if (fused) {
+            cv::v_store(index, cv::v_mul_wrap(cv::v_min(adSum, cv::vx_setall_u16(static_cast<std::uint16_t>(adLast))),
+                                              cv::vx_setall_u16(static_cast<std::uint16_t>(gradientLast + 1))) +
+                                   cv::v_min(gradSum, cv::vx_setall_u16(static_cast<std::uint16_t>(gradientLast))));
+        } else {
+            cv::v_store(index, adSum);
+            cv::v_store(gradientIndex, gradSum);
+        }
+    }
+    void fill(const std::uint64_t* l, const std::uint64_t* r, int step, int valid, bool use7,
+              const std::uint16_t* gradientIndex, std::uint16_t* cell) const {
+        if (fused) {
+            if (use7) {
+                censusAndLookups<kCensus7Words, false>(l + kCensus7Offset, r + kCensus7Offset, step, valid,
+                                                       census7.data(), adGradient.data(), nullptr, nullptr, cell);
+            } else {
+                censusAndLookups<kCensus9Words, false>(l + kCensus9Offset, r + kCensus9Offset, step, valid,
+                                                       census9.data(), adGradient.data(), nullptr, nullptr, cell);
+            }
+        } else if (use7) {
+            censusAndLookups<kCensus7Words, true>(l + kCensus7Offset, r + kCensus7Offset, step, valid, census7.data(),
+                                                  ad.data(), gradient.data(), gradientIndex, cell);
+        } else {
+            censusAndLookups<kCensus9Words, true>(l + kCensus9Offset, r + kCensus9Offset, step, valid, census9.data(),
+                                                  ad.data(), gradient.data(), gradientIndex, cell);
+        }
+    }
 
     // The left pixel's window decides which code both sides are compared with.
     static int hamming(const std::uint64_t* l, const std::uint64_t* r, bool use7) {
@@ -79,6 +210,14 @@ struct MeiTerms {
           invalid(kAdCensusInvalidCost) {}
 
     static constexpr bool kUsesGradient = false;
+
+    void indices(const cv::v_uint16& adSum, const cv::v_uint16&, std::uint16_t* index, std::uint16_t*) const {
+        cv::v_store(index, adSum);
+    }
+    void fill(const std::uint64_t* l, const std::uint64_t* r, int step, int valid, bool, const std::uint16_t*,
+              std::uint16_t* cell) const {
+        censusAndLookups<1, false>(l, r, step, valid, census.data(), ad.data(), nullptr, nullptr, cell);
+    }
 
     std::uint16_t cost(const std::uint64_t* l, const std::uint64_t* r, bool, int adSum, int) const {
         return static_cast<std::uint16_t>(census[std::popcount(*l ^ *r)] + ad[adSum]);
@@ -112,50 +251,15 @@ void costReference(const Terms& terms, const CostInputs& left, const CostInputs&
         }
 }
 
-constexpr int kVec8 = cv::v_uint8::nlanes;  // the widest vector: 32 with AVX2, 16 with SSE or NEON
-
-// Planar copies of a row, reversed, with kVec8 zero bytes after the end for whole-vector loads.
-struct ReversedRow {
-    std::vector<std::uint8_t> planes[6];
-
-    void fill(const cv::Mat& bgr, const cv::Mat& gradient, int y, int width) {
-        for (int c = 0; c < 6; ++c) planes[c].assign(static_cast<std::size_t>(width + kVec8), 0);
-        const auto* colour = bgr.ptr<cv::Vec3b>(y);
-        const auto* grad = gradient.empty() ? nullptr : gradient.ptr<cv::Vec3b>(y);
-        for (int x = 0; x < width; ++x) {
-            const auto j = static_cast<std::size_t>(width - 1 - x);
-            for (int c = 0; c < 3; ++c) {
-                planes[c][j] = colour[x][c];
-                if (grad) planes[3 + c][j] = grad[x][c];
-            }
-        }
-    }
-};
-
-// Sum over three planes of |value_c - plane_c[j + i]|, i = 0..count-1, vectorised.
-void absSums(const std::vector<std::uint8_t>* planes, const std::uint8_t* value, std::size_t j, int count,
-             std::uint16_t* out) {
-    const cv::v_uint8 v0 = cv::vx_setall_u8(value[0]);
-    const cv::v_uint8 v1 = cv::vx_setall_u8(value[1]);
-    const cv::v_uint8 v2 = cv::vx_setall_u8(value[2]);
-    for (int i = 0; i < count; i += kVec8) {
-        cv::v_uint16 lo0, hi0, lo1, hi1, lo2, hi2;
-        cv::v_expand(cv::v_absdiff(v0, cv::vx_load(planes[0].data() + j + i)), lo0, hi0);
-        cv::v_expand(cv::v_absdiff(v1, cv::vx_load(planes[1].data() + j + i)), lo1, hi1);
-        cv::v_expand(cv::v_absdiff(v2, cv::vx_load(planes[2].data() + j + i)), lo2, hi2);
-        cv::v_store(out + i, lo0 + lo1 + lo2);
-        cv::v_store(out + i + kVec8 / 2, hi0 + hi1 + hi2);
-    }
-}
-
 template <class Terms>
 void costOptimised(const Terms& terms, const CostInputs& left, const CostInputs& right, CostVolume& out) {
     const int width = left.bgr.cols;
     const int disparities = out.disparities;
     const int blocks = (disparities + kVec8 - 1) / kVec8 * kVec8;
+    const int step = right.census->words;
     forEachStripe(left.bgr.rows, [&](int, int begin, int end) {
         ReversedRow reversed;
-        std::vector<std::uint16_t> adSums(static_cast<std::size_t>(blocks)), gradSums(static_cast<std::size_t>(blocks));
+        std::vector<std::uint16_t> gradientIndex(static_cast<std::size_t>(blocks));
         for (int y = begin; y < end; ++y) {
             reversed.fill(right.bgr, right.gradient, y, width);
             const auto* colour = left.bgr.ptr<cv::Vec3b>(y);
@@ -165,25 +269,23 @@ void costOptimised(const Terms& terms, const CostInputs& left, const CostInputs&
                 const int valid = std::min(disparities, x + 1);  // right pixel x - d inside the image
                 const auto j = static_cast<std::size_t>(width - 1 - x);
                 // Reads past the row's end land in the zero padding and are never used.
-                absSums(reversed.planes, &colour[x][0], j, valid, adSums.data());
-                if (Terms::kUsesGradient) absSums(reversed.planes + 3, &grad[x][0], j, valid, gradSums.data());
-                const std::uint64_t* l = left.census->at(x, y);
-                const std::uint64_t* r = right.census->at(x, y);
-                const bool use7 = mask && mask[x] != 0;
-                const int words = right.census->words;
+                const cv::v_uint8 c[3] = {cv::vx_setall_u8(colour[x][0]), cv::vx_setall_u8(colour[x][1]),
+                                          cv::vx_setall_u8(colour[x][2])};
+                cv::v_uint8 g[3];
+                if (Terms::kUsesGradient)
+                    for (int k = 0; k < 3; ++k) g[k] = cv::vx_setall_u8(grad[x][k]);
                 std::uint16_t* cell = out.at(x, y);
-                // The window choice is fixed per pixel: one loop each, no branch per disparity.
-                auto fill = [&](auto window) {
-                    for (int d = 0; d < valid; ++d) {
-                        cell[d] = terms.cost(l, r - d * words, decltype(window)::value, adSums[static_cast<std::size_t>(d)],
-                                             Terms::kUsesGradient ? gradSums[static_cast<std::size_t>(d)] : 0);
-                    }
-                };
-                if (use7) {
-                    fill(std::true_type{});
-                } else {
-                    fill(std::false_type{});
+                for (int i = 0; i < valid; i += kVec8) {
+                    cv::v_uint16 adLo, adHi, gradLo, gradHi;
+                    absSums(reversed.planes, c, j + i, adLo, adHi);
+                    if (Terms::kUsesGradient) absSums(reversed.planes + 3, g, j + i, gradLo, gradHi);
+                    // The cell holds whole 16-bit vectors only: the upper half goes in when needed.
+                    terms.indices(adLo, gradLo, cell + i, gradientIndex.data() + i);
+                    if (i + kVec8 / 2 < valid)
+                        terms.indices(adHi, gradHi, cell + i + kVec8 / 2, gradientIndex.data() + i + kVec8 / 2);
                 }
+                terms.fill(left.census->at(x, y), right.census->at(x, y), step, valid, mask && mask[x] != 0,
+                           gradientIndex.data(), cell);
                 std::fill(cell + valid, cell + disparities, terms.invalid);
                 std::fill(cell + disparities, cell + out.stride, kPadCost);
             }

@@ -39,6 +39,26 @@ TEST(Costs, PaperOptimisedEqualsReference) {
     }
 }
 
+// λs so large that the AD and gradient terms never saturate: the optimised kernel looks them up
+// apart instead of from one summed table.
+TEST(Costs, PaperOptimisedEqualsReferenceWithUnsaturatedTerms) {
+    const Pair p = randomPair(211, 97);
+    Parameters parameters;
+    parameters.lambdaAd = 400.0;
+    parameters.lambdaGradient = 40.0;
+    CensusImage censusLeft, censusRight;
+    CostInputs left{p.bgrLeft, channelGradientMagnitudes(p.bgrLeft), censusWindowMask(p.greyLeft, 6.0), &censusLeft};
+    CostInputs right{p.bgrRight, channelGradientMagnitudes(p.bgrRight), cv::Mat(), &censusRight};
+    improvedCensus(p.greyLeft, edgeCornerBits(p.greyLeft, parameters), 2, left.windowMask, censusLeft);
+    improvedCensus(p.greyRight, edgeCornerBits(p.greyRight, parameters), 2, cv::Mat(), censusRight);
+    CostVolume fast, plain;
+    fast.create(211, 97, 40);
+    plain.create(211, 97, 40);
+    paperCost(left, right, parameters, fast);
+    paperCostReference(left, right, parameters, plain);
+    EXPECT_EQ(fast.data, plain.data);
+}
+
 TEST(Costs, AdCensusOptimisedEqualsReference) {
     const Pair p = randomPair(631, 479);
     CensusImage censusLeft, censusRight;
