@@ -80,19 +80,21 @@ double smoothNoise(cv::Mat& bgr, cv::Mat& grey, double gain) {
     if (gain <= 0.0) return 0.0;
     // One grey level of "noise" is what quantisation and a clean camera give; 0.8 is the most
     // blur measured to pay (more smears disparity edges than it removes noise).
-    double sigma = std::clamp(gain * (estimateNoiseSigma(grey) - 1.0), 0.0, 0.8);
+    double noise = estimateNoiseSigma(grey);
+    double sigma = std::clamp(gain * (noise - 1.0), 0.0, 0.8);
     if (sigma > 0.2) {  // below this the kernel barely differs from identity
         cv::GaussianBlur(bgr, bgr, {0, 0}, sigma);
         cv::cvtColor(bgr, grey, cv::COLOR_BGR2GRAY);
+        noise = estimateNoiseSigma(grey);
     } else {
         sigma = 0.0;
     }
     // The grey pass, on what the blur left. After a strong blur the remaining noise is too smooth
-    // for Immerkær's operator to see, and the pass stays off.
-    if (estimateNoiseSigma(grey, kGreyPassPercentile) > kGreyPassNoiseFloor) {
+    // for Immerkær's operator to see, and the pass stays off. The 1st percentile never reads above
+    // the 5th, so an image whose 5th reads one grey level or less needs no second estimate.
+    if (noise > kGreyPassNoiseFloor && estimateNoiseSigma(grey, kGreyPassPercentile) > kGreyPassNoiseFloor) {
         cv::Mat filtered;
-        cv::bilateralFilter(grey, filtered, kGreyPassDiameter, kGreyPassRangePerNoise * estimateNoiseSigma(grey),
-                            kGreyPassSpatialSigma);
+        cv::bilateralFilter(grey, filtered, kGreyPassDiameter, kGreyPassRangePerNoise * noise, kGreyPassSpatialSigma);
         grey = filtered;
     }
     return sigma;
