@@ -83,11 +83,14 @@ void forEachStripe(int count, const F& fn) {
 int removeImpulses(cv::Mat& bgr, cv::Mat& grey, int threshold, int railThreshold = 0);
 
 // ---- noise_smoothing.cpp ------------------------------------------------------------------------
-// Sensor noise level of a grey image, grey levels (Immerkær's estimator over 8x8 blocks, 5th
-// percentile: about 3/4 of the noise's standard deviation).
-double estimateNoiseSigma(const cv::Mat& grey);
+// Sensor noise level of a grey image, grey levels (Immerkær's estimator over 8x8 blocks at the
+// given percentile; at the 5th: about 3/4 of the noise's standard deviation).
+double estimateNoiseSigma(const cv::Mat& grey, double percentile = 5.0);
 // Blurs bgr (CV_8UC3) with a Gaussian of sigma = clamp(gain * (noise - 1), 0, 0.8) when that is
-// above 0.2 and recomputes grey from it; returns the sigma used (0: image left alone).
+// above 0.2 and recomputes grey from it; then, when the flattest 1 % of grey's blocks still read
+// more than one grey level of noise, passes grey alone through a bilateral filter whose range
+// follows the noise (noise_smoothing.cpp explains). Returns the Gaussian's sigma (0: none).
+// Gain 0 leaves both images alone.
 double smoothNoise(cv::Mat& bgr, cv::Mat& grey, double gain);
 // The Census band for both eyes: max(alpha, round(gain * mean of the two noise estimates));
 // gain 0 returns alpha.

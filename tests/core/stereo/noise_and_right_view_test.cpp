@@ -52,12 +52,46 @@ TEST(NoiseSmoothing, BlursOnlyNoisyImages) {
     EXPECT_EQ(smoothNoise(bgr, grey, 0.3), 0.0);
     EXPECT_EQ(cv::norm(bgr, before, cv::NORM_INF), 0.0);
 
+    EXPECT_EQ(cv::norm(grey, noisyRamp(0.0, 4), cv::NORM_INF), 0.0);
+
     grey = noisyRamp(6.0, 5);
     cv::cvtColor(grey, bgr, cv::COLOR_GRAY2BGR);
     const double noiseBefore = estimateNoiseSigma(grey);
     EXPECT_DOUBLE_EQ(smoothNoise(bgr, grey, 0.3), 0.8);  // 0.3 * (about 4.5 - 1), capped at 0.8
     EXPECT_LT(estimateNoiseSigma(grey), 0.6 * noiseBefore);
     EXPECT_EQ(smoothNoise(bgr, grey, 0.0), 0.0);  // gain 0: off
+}
+
+TEST(NoiseSmoothing, TheFlattestBlocksReadLowerThanTheUsualPercentile) {
+    const cv::Mat grey = noisyRamp(4.0, 6);
+    const double first = estimateNoiseSigma(grey, 1.0);
+    EXPECT_GT(first, 0.5 * 4.0);
+    EXPECT_LT(first, estimateNoiseSigma(grey));
+    EXPECT_DOUBLE_EQ(estimateNoiseSigma(grey, 5.0), estimateNoiseSigma(grey));
+}
+
+TEST(NoiseSmoothing, GreyPassSmoothsNoiseTooLightForTheBlur) {
+    // Noise of sigma 2 is below what the colour blur acts on, but its flattest blocks read more
+    // than one grey level: only the grey image (the Census input) is filtered.
+    cv::Mat grey = noisyRamp(2.0, 7), bgr;
+    cv::cvtColor(grey, bgr, cv::COLOR_GRAY2BGR);
+    const cv::Mat bgrBefore = bgr.clone();
+    const double noiseBefore = estimateNoiseSigma(grey);
+    EXPECT_GT(estimateNoiseSigma(grey, 1.0), 1.0);
+    EXPECT_EQ(smoothNoise(bgr, grey, 0.3), 0.0);
+    EXPECT_EQ(cv::norm(bgr, bgrBefore, cv::NORM_INF), 0.0);
+    EXPECT_LT(estimateNoiseSigma(grey), 0.6 * noiseBefore);
+    EXPECT_EQ(smoothNoise(bgr, grey, 0.0), 0.0);  // gain 0: off
+
+    // A step of ten noise sigmas keeps its contrast (the bilateral filter does not average across
+    // it).
+    cv::Mat step = noisyRamp(2.0, 8);
+    step.colRange(step.cols / 2, step.cols) += 20;
+    cv::cvtColor(step, bgr, cv::COLOR_GRAY2BGR);
+    smoothNoise(bgr, step, 0.3);
+    const int edge = step.cols / 2;
+    const double across = cv::mean(step.col(edge))[0] - cv::mean(step.col(edge - 1))[0];
+    EXPECT_GT(across, 20.0 + 0.3 - 3.0);  // the ramp adds 0.3 per column
 }
 
 TEST(RightViewCosts, MirroredDiagonalsOfTheLeftVolume) {
