@@ -100,6 +100,7 @@ void readStereo(Section s, stereo::Parameters& p) {
     s.read("impulse_threshold", p.impulseThreshold, 0, 255);
     s.read("impulse_rail_threshold", p.impulseRailThreshold, 0, 255);
     s.read("noise_smoothing_gain", p.noiseSmoothingGain, 0.0, 10.0);
+    s.read("noise_grey_pass_range", p.noiseGreyPassRange, 0.0, 20.0);
     s.read("census_gradient_threshold", p.censusGradientThreshold, 0.0, 1000.0);
     s.read("census_alpha", p.censusAlpha, 0, 64);
     s.read("census_alpha_noise_gain", p.censusAlphaNoiseGain, 0.0, 10.0);

@@ -237,26 +237,27 @@ void columnStats(const std::uint8_t* row, std::ptrdiff_t step, int columns, Colu
         cv::v_uint8 r[9];
         for (int i = 0; i < 9; ++i) r[i] = cv::vx_load(row + (i - 4) * step + x);
         cv::v_uint8 lo = r[1], hi = r[1];
-        cv::v_uint16 sum0, sum1, e0, e1;
+        cv::v_uint16 sum0, sum1;
         cv::v_expand(r[1], sum0, sum1);
-        for (int i = 2; i < 8; ++i) {
-            lo = cv::v_min(lo, r[i]);
-            hi = cv::v_max(hi, r[i]);
-            cv::v_expand(r[i], e0, e1);
-            sum0 = sum0 + e0;
-            sum1 = sum1 + e1;
-        }
+        // Rows a .. b-1 into the running minimum, maximum and sum: the 7-row window, then the
+        // 9-row one grows from it by its two outer rows.
+        auto add = [&](int a, int b) {
+            for (int i = a; i < b; ++i) {
+                cv::v_uint16 e0, e1;
+                lo = cv::v_min(lo, r[i]);
+                hi = cv::v_max(hi, r[i]);
+                cv::v_expand(r[i], e0, e1);
+                sum0 = sum0 + e0;
+                sum1 = sum1 + e1;
+            }
+        };
+        add(2, 8);
         cv::v_store(out.min7.data() + x, lo);
         cv::v_store(out.max7.data() + x, hi);
         cv::v_store(out.sum7.data() + x, sum0);
         cv::v_store(out.sum7.data() + x + kHalf, sum1);
-        for (int i : {0, 8}) {
-            lo = cv::v_min(lo, r[i]);
-            hi = cv::v_max(hi, r[i]);
-            cv::v_expand(r[i], e0, e1);
-            sum0 = sum0 + e0;
-            sum1 = sum1 + e1;
-        }
+        add(0, 1);
+        add(8, 9);
         cv::v_store(out.min9.data() + x, lo);
         cv::v_store(out.max9.data() + x, hi);
         cv::v_store(out.sum9.data() + x, sum0);

@@ -45,7 +45,7 @@ cv::Mat CensusMatcher::compute(const cv::Mat& left, const cv::Mat& right, int ma
         cv::Mat& bgr = isLeft ? bgrLeft : bgrRight;
         cv::Mat& grey = isLeft ? greyLeft : greyRight;
         if (p.impulseThreshold > 0) removeImpulses(bgr, grey, p.impulseThreshold, p.impulseRailThreshold);
-        smoothNoise(bgr, grey, p.noiseSmoothingGain);
+        smoothNoise(bgr, grey, p.noiseSmoothingGain, p.noiseGreyPassRange);
         // The noise the Census band has to absorb is what the smoothing left.
         if (method_ == Method::Paper && p.censusAlphaNoiseGain > 0.0) noise[isLeft ? 0 : 1] = estimateNoiseSigma(grey);
     };

@@ -39,13 +39,7 @@ namespace {
 // On pure noise the 1st percentile reads about 0.65 sigma.
 constexpr double kGreyPassPercentile = 1.0;
 constexpr double kGreyPassNoiseFloor = 1.0;
-// Range sigma of the bilateral filter in units of the (5th-percentile) estimate: 3 estimates are
-// about 2.2 noise sigmas, 1.6 times the spread of the difference of two noisy pixels, so noise
-// is averaged while a step of several noise sigmas keeps most of its contrast. 5x5 window,
-// spatial sigma 1 px. Cones+Teddy average bad with Gaussian noise sigma 2 and 4 (noise seeds
-// 1, 3, 5, 7, 9): 5.51 -> 5.04 % and 7.05 -> 6.71 % with 3; 5.21 / 6.88 % with 2, 5.00 / 6.62 % with
-// 4.
-constexpr double kGreyPassRangePerNoise = 3.0;
+// The filter's window; its range, in noise estimates, is Parameters::noiseGreyPassRange.
 constexpr int kGreyPassDiameter = 5;
 constexpr double kGreyPassSpatialSigma = 1.0;
 
@@ -76,7 +70,7 @@ double estimateNoiseSigma(const cv::Mat& grey, double percentile) {
     return *at;
 }
 
-double smoothNoise(cv::Mat& bgr, cv::Mat& grey, double gain) {
+double smoothNoise(cv::Mat& bgr, cv::Mat& grey, double gain, double greyPassRange) {
     if (gain <= 0.0) return 0.0;
     // One grey level of "noise" is what quantisation and a clean camera give; 0.8 is the most
     // blur measured to pay (more smears disparity edges than it removes noise).
@@ -92,9 +86,10 @@ double smoothNoise(cv::Mat& bgr, cv::Mat& grey, double gain) {
     // The grey pass, on what the blur left. After a strong blur the remaining noise is too smooth
     // for Immerkær's operator to see, and the pass stays off. The 1st percentile never reads above
     // the 5th, so an image whose 5th reads one grey level or less needs no second estimate.
-    if (noise > kGreyPassNoiseFloor && estimateNoiseSigma(grey, kGreyPassPercentile) > kGreyPassNoiseFloor) {
+    if (greyPassRange > 0.0 && noise > kGreyPassNoiseFloor &&
+        estimateNoiseSigma(grey, kGreyPassPercentile) > kGreyPassNoiseFloor) {
         cv::Mat filtered;
-        cv::bilateralFilter(grey, filtered, kGreyPassDiameter, kGreyPassRangePerNoise * noise, kGreyPassSpatialSigma);
+        cv::bilateralFilter(grey, filtered, kGreyPassDiameter, greyPassRange * noise, kGreyPassSpatialSigma);
         grey = filtered;
     }
     return sigma;

@@ -90,8 +90,9 @@ double estimateNoiseSigma(const cv::Mat& grey, double percentile = 5.0);
 // above 0.2 and recomputes grey from it; then, when the flattest 1 % of grey's blocks still read
 // more than one grey level of noise, passes grey alone through a bilateral filter whose range
 // follows the noise (noise_smoothing.cpp explains). Returns the Gaussian's sigma (0: none).
-// Gain 0 leaves both images alone.
-double smoothNoise(cv::Mat& bgr, cv::Mat& grey, double gain);
+// greyPassRange is the filter's range in noise estimates (0: no grey pass). Gain 0 leaves both
+// images alone.
+double smoothNoise(cv::Mat& bgr, cv::Mat& grey, double gain, double greyPassRange = 3.0);
 // The Census band for both eyes: max(alpha, round(gain * mean of the two noise estimates));
 // gain 0 returns alpha.
 int noiseAdaptiveCensusAlpha(int alpha, double gain, double noiseLeft, double noiseRight);
