@@ -73,10 +73,9 @@ std::uint16_t stepAndAccumulate(const std::uint16_t* cost, const std::uint16_t* 
 
 // The three directions of a vertical pass at one pixel in one go: the same step as above for each
 // (previous[i] may be null: that direction starts its line here, L = C), with the sum read and
-// written once instead of three times (kFirst: the sum starts here). minima[i] is
-// min_t L(p - r_i, t) on entry and the new minimum on return.
-template <bool kFirst>
-void stepThreeAndAccumulate(const std::uint16_t* cost, const std::uint16_t* const previous[3],
+// written once instead of three times; the sum starts here (the vertical passes run first).
+// minima[i] is min_t L(p - r_i, t) on entry and the new minimum on return.
+void stepThreeAndStartSum(const std::uint16_t* cost, const std::uint16_t* const previous[3],
                             std::uint16_t minima[3], int stride, const std::uint16_t p1[3],
                             const std::uint16_t p2[3], std::uint16_t* const out[3], std::uint16_t* sum) {
     cv::v_uint16 vMin[3], vJump[3], vP1[3], newMin[3];
@@ -88,7 +87,7 @@ void stepThreeAndAccumulate(const std::uint16_t* cost, const std::uint16_t* cons
     }
     for (int d = 0; d < stride; d += kLanes) {
         const cv::v_uint16 c = cv::vx_load(cost + d);
-        cv::v_uint16 total = kFirst ? cv::vx_setzero_u16() : cv::vx_load(sum + d);
+        cv::v_uint16 total = cv::vx_setzero_u16();
         for (int i = 0; i < 3; ++i) {
             cv::v_uint16 l = c;
             if (previous[i]) {
@@ -229,11 +228,12 @@ private:
 };
 
 // Left-to-right and right-to-left along every row: rows are independent, split over stripes.
-// kFirst: this pass starts the sum. extra, when given (only with kFirst false), is added to the
-// sum on the way back: the other vertical pass's directions, so no separate pass adds them.
+// kFirst: this pass starts the sum. Otherwise the sum holds the down pass's directions and extra
+// the up pass's, which are added on the way back, so no separate pass adds them.
 template <bool kFirst>
 void horizontalPass(const CostVolume& costs, const PenaltyCases& cases, const ScanlinePenalties& penalties,
                     CostVolume& sum, const CostVolume* extra = nullptr) {
+    CV_Assert(kFirst || extra);
     const int width = costs.width, stride = costs.stride;
     forEachStripe(costs.height, [&](int, int begin, int end) {
         LineBuffers buffers;
@@ -250,22 +250,14 @@ void horizontalPass(const CostVolume& costs, const PenaltyCases& cases, const Sc
                                                     penalties.p2[c], current, sum.at(x, y));
                 std::swap(previous, current);
             }
-            if (extra) {
-                minimum = startLine<false, true>(costs.at(width - 1, y), stride, previous, sum.at(width - 1, y),
-                                                 extra->at(width - 1, y));
-                for (int x = width - 2; x >= 0; --x) {
-                    const int c = leftwards[x];
-                    minimum = stepAndAccumulate<false, true>(costs.at(x, y), previous, minimum, stride, penalties.p1[c],
-                                                             penalties.p2[c], current, sum.at(x, y), extra->at(x, y));
-                    std::swap(previous, current);
-                }
-                continue;
-            }
-            minimum = startLine<false>(costs.at(width - 1, y), stride, previous, sum.at(width - 1, y));
+            // On the way back the other vertical pass's directions come in too (kFirst false).
+            auto spareAt = [&](int x) { return kFirst ? nullptr : extra->at(x, y); };
+            minimum = startLine<false, !kFirst>(costs.at(width - 1, y), stride, previous, sum.at(width - 1, y),
+                                                spareAt(width - 1));
             for (int x = width - 2; x >= 0; --x) {
                 const int c = leftwards[x];
-                minimum = stepAndAccumulate<false>(costs.at(x, y), previous, minimum, stride, penalties.p1[c],
-                                                   penalties.p2[c], current, sum.at(x, y));
+                minimum = stepAndAccumulate<false, !kFirst>(costs.at(x, y), previous, minimum, stride, penalties.p1[c],
+                                                            penalties.p2[c], current, sum.at(x, y), spareAt(x));
                 std::swap(previous, current);
             }
         }
@@ -276,8 +268,7 @@ void horizontalPass(const CostVolume& costs, const PenaltyCases& cases, const Sc
 // only on the previous one. The whole pass runs on one thread: splitting each row's columns over
 // threads needs a wait for every row, and those waits cost more than the second core gave (the
 // down and the up pass run side by side instead, see aggregateScanlines). One read of the costs
-// and one update of the sum serve all three directions; kFirst: the sum starts here.
-template <bool kFirst>
+// and one write of the sum serve all three directions; the sum starts here.
 void verticalPass(const CostVolume& costs, const PenaltyCases& cases, const ScanlinePenalties& penalties, int dy,
                   CostVolume& sum) {
     const int width = costs.width, height = costs.height, stride = costs.stride;
@@ -298,24 +289,22 @@ void verticalPass(const CostVolume& costs, const PenaltyCases& cases, const Scan
     }
     for (int step = 0; step < height; ++step) {
         const int y = dy > 0 ? step : height - 1 - step;
-        {
-            for (int x = 0; x < width; ++x) {
-                const std::uint16_t* from[3];
-                std::uint16_t* out[3];
-                std::uint16_t minimum[3], p1[3], p2[3];
-                for (int i = 0; i < 3; ++i) {
-                    const int px = x - directions[i].dx;
-                    out[i] = current[i] + static_cast<std::size_t>(x) * (stride + kLanes);
-                    const bool starts = step == 0 || px < 0 || px >= width;
-                    from[i] = starts ? nullptr : previous[i] + static_cast<std::size_t>(px) * (stride + kLanes);
-                    minimum[i] = starts ? 0 : previousMin[i][px];
-                    const int c = cases.row(caseIndex[i], y)[x];
-                    p1[i] = penalties.p1[c];
-                    p2[i] = penalties.p2[c];
-                }
-                stepThreeAndAccumulate<kFirst>(costs.at(x, y), from, minimum, stride, p1, p2, out, sum.at(x, y));
-                for (int i = 0; i < 3; ++i) currentMin[i][x] = minimum[i];
+        for (int x = 0; x < width; ++x) {
+            const std::uint16_t* from[3];
+            std::uint16_t* out[3];
+            std::uint16_t minimum[3], p1[3], p2[3];
+            for (int i = 0; i < 3; ++i) {
+                const int px = x - directions[i].dx;
+                out[i] = current[i] + static_cast<std::size_t>(x) * (stride + kLanes);
+                const bool starts = step == 0 || px < 0 || px >= width;
+                from[i] = starts ? nullptr : previous[i] + static_cast<std::size_t>(px) * (stride + kLanes);
+                minimum[i] = starts ? 0 : previousMin[i][px];
+                const int c = cases.row(caseIndex[i], y)[x];
+                p1[i] = penalties.p1[c];
+                p2[i] = penalties.p2[c];
             }
+            stepThreeAndStartSum(costs.at(x, y), from, minimum, stride, p1, p2, out, sum.at(x, y));
+            for (int i = 0; i < 3; ++i) currentMin[i][x] = minimum[i];
         }
         for (int i = 0; i < 3; ++i) {
             std::swap(previous[i], current[i]);
@@ -417,7 +406,7 @@ void aggregateScanlines(const CostVolume& costs, const cv::Mat& bgr, const Scanl
     const PenaltyCases& sharedCases = cases;  // the tasks run on other threads: not their thread_local
     cv::parallel_for_(cv::Range(0, 2), [&](const cv::Range& r) {
         for (int task = r.start; task < r.end; ++task) {
-            verticalPass<true>(costs, sharedCases, penalties, task == 0 ? 1 : -1, task == 0 ? sum : up);
+            verticalPass(costs, sharedCases, penalties, task == 0 ? 1 : -1, task == 0 ? sum : up);
         }
     }, 2);
     horizontalPass<false>(costs, cases, penalties, sum, &up);
