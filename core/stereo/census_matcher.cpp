@@ -45,9 +45,10 @@ cv::Mat CensusMatcher::compute(const cv::Mat& left, const cv::Mat& right, int ma
         cv::Mat& bgr = isLeft ? bgrLeft : bgrRight;
         cv::Mat& grey = isLeft ? greyLeft : greyRight;
         if (p.impulseThreshold > 0) removeImpulses(bgr, grey, p.impulseThreshold, p.impulseRailThreshold);
-        smoothNoise(bgr, grey, p.noiseSmoothingGain, p.noiseGreyPassRange);
         // The noise the Census band has to absorb is what the smoothing left.
-        if (method_ == Method::Paper && p.censusAlphaNoiseGain > 0.0) noise[isLeft ? 0 : 1] = estimateNoiseSigma(grey);
+        const bool bandFollowsNoise = method_ == Method::Paper && p.censusAlphaNoiseGain > 0.0;
+        smoothNoise(bgr, grey, p.noiseSmoothingGain, p.noiseGreyPassRange,
+                    bandFollowsNoise ? &noise[isLeft ? 0 : 1] : nullptr);
     };
     auto prepareEye = [&](bool isLeft, int alpha) {
         cv::Mat& bgr = isLeft ? bgrLeft : bgrRight;

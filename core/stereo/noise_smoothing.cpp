@@ -70,8 +70,11 @@ double estimateNoiseSigma(const cv::Mat& grey, double percentile) {
     return *at;
 }
 
-double smoothNoise(cv::Mat& bgr, cv::Mat& grey, double gain, double greyPassRange) {
-    if (gain <= 0.0) return 0.0;
+double smoothNoise(cv::Mat& bgr, cv::Mat& grey, double gain, double greyPassRange, double* noiseLeft) {
+    if (gain <= 0.0) {
+        if (noiseLeft) *noiseLeft = estimateNoiseSigma(grey);
+        return 0.0;
+    }
     // One grey level of "noise" is what quantisation and a clean camera give; 0.8 is the most
     // blur measured to pay (more smears disparity edges than it removes noise).
     double noise = estimateNoiseSigma(grey);
@@ -91,7 +94,9 @@ double smoothNoise(cv::Mat& bgr, cv::Mat& grey, double gain, double greyPassRang
         cv::Mat filtered;
         cv::bilateralFilter(grey, filtered, kGreyPassDiameter, greyPassRange * noise, kGreyPassSpatialSigma);
         grey = filtered;
+        if (noiseLeft) noise = estimateNoiseSigma(grey);
     }
+    if (noiseLeft) *noiseLeft = noise;
     return sigma;
 }
 

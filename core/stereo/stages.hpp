@@ -91,8 +91,10 @@ double estimateNoiseSigma(const cv::Mat& grey, double percentile = 5.0);
 // more than one grey level of noise, passes grey alone through a bilateral filter whose range
 // follows the noise (noise_smoothing.cpp explains). Returns the Gaussian's sigma (0: none).
 // greyPassRange is the filter's range in noise estimates (0: no grey pass). Gain 0 leaves both
-// images alone.
-double smoothNoise(cv::Mat& bgr, cv::Mat& grey, double gain, double greyPassRange = 3.0);
+// images alone. noiseLeft, when given, receives estimateNoiseSigma of grey as it is left, which
+// the function mostly has at hand already.
+double smoothNoise(cv::Mat& bgr, cv::Mat& grey, double gain, double greyPassRange = 3.0,
+                   double* noiseLeft = nullptr);
 // The Census band for both eyes: max(alpha, round(gain * mean of the two noise estimates));
 // gain 0 returns alpha.
 int noiseAdaptiveCensusAlpha(int alpha, double gain, double noiseLeft, double noiseRight);

@@ -1,3 +1,5 @@
+#include <utility>
+
 #include <gtest/gtest.h>
 
 #include <opencv2/core.hpp>
@@ -92,6 +94,18 @@ TEST(NoiseSmoothing, GreyPassSmoothsNoiseTooLightForTheBlur) {
     const int edge = step.cols / 2;
     const double across = cv::mean(step.col(edge))[0] - cv::mean(step.col(edge - 1))[0];
     EXPECT_GT(across, 20.0 + 0.3 - 3.0);  // the ramp adds 0.3 per column
+}
+
+TEST(NoiseSmoothing, ReportsTheNoiseItLeaves) {
+    // Each way through: left alone, blurred, grey pass, off. The noise handed back is the
+    // estimate of the grey image as it is left.
+    for (const auto& [sigma, gain] : {std::pair{0.0, 0.3}, std::pair{6.0, 0.3}, std::pair{2.0, 0.3}, std::pair{2.0, 0.0}}) {
+        cv::Mat grey = noisyRamp(sigma, 9), bgr;
+        cv::cvtColor(grey, bgr, cv::COLOR_GRAY2BGR);
+        double noiseLeft = -1.0;
+        smoothNoise(bgr, grey, gain, 3.0, &noiseLeft);
+        EXPECT_DOUBLE_EQ(noiseLeft, estimateNoiseSigma(grey)) << sigma << " " << gain;
+    }
 }
 
 TEST(RightViewCosts, MirroredDiagonalsOfTheLeftVolume) {
