@@ -84,7 +84,7 @@ cv::Mat CensusMatcher::compute(const cv::Mat& left, const cv::Mat& right, int ma
 
     // 3. The right view, when it gets its own pass: its costs read off the left volume (mirrored,
     //    so it is the left view of the mirrored pair), cross regions of the right image,
-    //    aggregation, scanlines (4 directions by default: Parameters explains) and winner-take-all. Run first, so that the left view's
+    //    aggregation, scanlines (4 directions by default: Parameters explains) with winner-take-all. Run first, so that the left view's
     //    aggregated volume is the one left in scratch_ for the refinement.
     cv::Mat rightDisparity;
     const ScanlinePenalties penalties = scanlinePenalties(p);
@@ -94,8 +94,8 @@ cv::Mat CensusMatcher::compute(const cv::Mat& left, const cv::Mat& right, int ma
         cv::flip(bgrRight, mirroredRight, 1);
         computeCrossArms(mirroredRight, p, rightArms_);
         aggregateCross(rightArms_, p.crossIterations, rightCosts_, scratch_);
-        aggregateScanlines(rightCosts_, mirroredRight, penalties, scratch_, p.rightViewScanlineDirections);
-        winnerTakesAll(scratch_, mirroredDisparity);
+        aggregateScanlines(rightCosts_, mirroredRight, penalties, scratch_, p.rightViewScanlineDirections, nullptr,
+                           &mirroredDisparity);
         cv::flip(mirroredDisparity, rightDisparity, 1);
     }
 
@@ -104,13 +104,14 @@ cv::Mat CensusMatcher::compute(const cv::Mat& left, const cv::Mat& right, int ma
     aggregateCross(arms_, p.crossIterations, costs_, scratch_);
 
     // 5. Scanline optimisation along 8 directions, summed into the second volume; winner-take-all
-    //    (the right view from the same volume's diagonals when it had no pass of its own).
+    //    as each pixel's sum is completed (both views from the finished volume, the right one along
+    //    its diagonals, when the right view had no pass of its own).
     // The right view's volume is free by now: it lends the scanline pass its scratch.
-    aggregateScanlines(costs_, bgrLeft, penalties, scratch_, 8, p.rightViewAggregation ? &rightCosts_ : nullptr);
     cv::Mat disparity;
     if (p.rightViewAggregation) {
-        winnerTakesAll(scratch_, disparity);
+        aggregateScanlines(costs_, bgrLeft, penalties, scratch_, 8, &rightCosts_, &disparity);
     } else {
+        aggregateScanlines(costs_, bgrLeft, penalties, scratch_, 8);
         winnerTakesAll(scratch_, disparity, rightDisparity);
     }
 

@@ -137,6 +137,28 @@ std::uint16_t startLine(const std::uint16_t* cost, int stride, std::uint16_t* ou
     return cv::v_reduce_min(newMin);
 }
 
+// The winner-take-all of a pixel whose sum is complete, read back while it is still in the nearest
+// cache (a separate pass would read the whole volume from memory again): the least of the first
+// `valid` disparities, ties to the smaller, as winnerTakesAll.
+std::int16_t leastDisparity(const std::uint16_t* sum, int valid) {
+    const int vectorEnd = valid / kLanes * kLanes;
+    std::uint16_t least = 0xFFFF;
+    if (vectorEnd > 0) {
+        cv::v_uint16 m = cv::vx_load(sum);
+        for (int d = kLanes; d < vectorEnd; d += kLanes) m = cv::v_min(m, cv::vx_load(sum + d));
+        least = cv::v_reduce_min(m);
+    }
+    for (int d = vectorEnd; d < valid; ++d) least = std::min(least, sum[d]);
+    const cv::v_uint16 target = cv::vx_setall_u16(least);
+    for (int d = 0; d < vectorEnd; d += kLanes) {
+        const cv::v_uint16 equal = cv::vx_load(sum + d) == target;
+        if (cv::v_check_any(equal)) return static_cast<std::int16_t>(d + cv::v_scan_forward(equal));
+    }
+    int d = vectorEnd;
+    while (sum[d] != least) ++d;
+    return static_cast<std::int16_t>(d);
+}
+
 // The penalty case of every pixel for every direction, computed once per image rather than per
 // step (two colour distances per pixel and direction would otherwise sit inside the recurrence).
 // For an axis a, below_a(u) = [D_c(u, u - a) < τ]. Direction r = a reads D1 = below_a(p) and
@@ -229,12 +251,14 @@ private:
 
 // Left-to-right and right-to-left along every row: rows are independent, split over stripes.
 // kFirst: this pass starts the sum. Otherwise the sum holds the down pass's directions and extra
-// the up pass's, which are added on the way back, so no separate pass adds them.
+// the up pass's, which are added on the way back, so no separate pass adds them; the sum of each
+// pixel is then complete, and `disparity`, when given, takes its winner.
 template <bool kFirst>
 void horizontalPass(const CostVolume& costs, const PenaltyCases& cases, const ScanlinePenalties& penalties,
-                    CostVolume& sum, const CostVolume* extra = nullptr) {
+                    CostVolume& sum, const CostVolume* extra = nullptr, cv::Mat* disparity = nullptr) {
     CV_Assert(kFirst || extra);
-    const int width = costs.width, stride = costs.stride;
+    CV_Assert(!(kFirst && disparity));
+    const int width = costs.width, stride = costs.stride, disparities = costs.disparities;
     forEachStripe(costs.height, [&](int, int begin, int end) {
         LineBuffers buffers;
         buffers.create(2, stride);
@@ -252,13 +276,17 @@ void horizontalPass(const CostVolume& costs, const PenaltyCases& cases, const Sc
             }
             // On the way back the other vertical pass's directions come in too (kFirst false).
             auto spareAt = [&](int x) { return kFirst ? nullptr : extra->at(x, y); };
+            std::int16_t* winners = disparity ? disparity->ptr<std::int16_t>(y) : nullptr;
             minimum = startLine<false, !kFirst>(costs.at(width - 1, y), stride, previous, sum.at(width - 1, y),
                                                 spareAt(width - 1));
+            if (winners) winners[width - 1] = leastDisparity(sum.at(width - 1, y), std::min(disparities, width));
             for (int x = width - 2; x >= 0; --x) {
                 const int c = leftwards[x];
                 minimum = stepAndAccumulate<false, !kFirst>(costs.at(x, y), previous, minimum, stride, penalties.p1[c],
                                                             penalties.p2[c], current, sum.at(x, y), spareAt(x));
                 std::swap(previous, current);
+                // Left pixel x has candidates d <= x only.
+                if (winners) winners[x] = leastDisparity(sum.at(x, y), std::min(disparities, x + 1));
             }
         }
     });
@@ -316,11 +344,12 @@ void verticalPass(const CostVolume& costs, const PenaltyCases& cases, const Scan
 // Straight down and straight up alone (the 4-direction sum): columns are independent, so they are
 // split over stripes once, with no wait between rows. A block of neighbouring columns runs down,
 // then up, together: walking one column alone would jump a whole image row in memory for every
-// pixel's few cache lines, and the hardware prefetcher does not follow that.
+// pixel's few cache lines, and the hardware prefetcher does not follow that. The up pass completes
+// each pixel's sum; `disparity`, when given, takes its winner.
 constexpr int kColumnBlock = 8;
 void columnPass(const CostVolume& costs, const PenaltyCases& cases, const ScanlinePenalties& penalties,
-                CostVolume& sum) {
-    const int height = costs.height, stride = costs.stride;
+                CostVolume& sum, cv::Mat* disparity) {
+    const int height = costs.height, stride = costs.stride, disparities = costs.disparities;
     forEachStripe(costs.width, [&](int, int begin, int end) {
         LineBuffers buffers;
         buffers.create(2 * kColumnBlock, stride);
@@ -332,11 +361,20 @@ void columnPass(const CostVolume& costs, const PenaltyCases& cases, const Scanli
                 std::uint16_t* previous[kColumnBlock];
                 std::uint16_t* current[kColumnBlock];
                 const int y0 = dy > 0 ? 0 : height - 1;
+                const bool last = dy < 0 && disparity;
+                auto takeWinners = [&](int y) {
+                    std::int16_t* winners = disparity->ptr<std::int16_t>(y);
+                    for (int k = 0; k < columns; ++k) {
+                        // Left pixel x has candidates d <= x only.
+                        winners[x0 + k] = leastDisparity(sum.at(x0 + k, y), std::min(disparities, x0 + k + 1));
+                    }
+                };
                 for (int k = 0; k < columns; ++k) {
                     previous[k] = buffers.at(2 * k);
                     current[k] = buffers.at(2 * k + 1);
                     minimum[k] = startLine<false>(costs.at(x0 + k, y0), stride, previous[k], sum.at(x0 + k, y0));
                 }
+                if (last) takeWinners(y0);
                 for (int step = 1; step < height; ++step) {
                     const int y = y0 + dy * step;
                     const std::uint8_t* c = cases.row(caseIndex, y) + x0;
@@ -346,6 +384,7 @@ void columnPass(const CostVolume& costs, const PenaltyCases& cases, const Scanli
                                                               sum.at(x0 + k, y));
                         std::swap(previous[k], current[k]);
                     }
+                    if (last) takeWinners(y);
                 }
             }
         }
@@ -384,16 +423,17 @@ void scanlineStep(const std::uint16_t* cost, const std::uint16_t* previous, int 
 }
 
 void aggregateScanlines(const CostVolume& costs, const cv::Mat& bgr, const ScanlinePenalties& penalties,
-                        CostVolume& sum, int directions, CostVolume* spare) {
+                        CostVolume& sum, int directions, CostVolume* spare, cv::Mat* disparity) {
     CV_Assert(directions == 8 || directions == 4);
     CV_Assert(bgr.type() == CV_8UC3 && bgr.cols == costs.width && bgr.rows == costs.height);
     sum.create(costs.width, costs.height, costs.disparities);
+    if (disparity) disparity->create(costs.height, costs.width, CV_16SC1);
     thread_local PenaltyCases cases;  // reallocated only when the image size changes
     cases.compute(bgr, penalties.tau);
     if (directions == 4) {
         // Two sweeps over the volume instead of four.
         horizontalPass<true>(costs, cases, penalties, sum);
-        columnPass(costs, cases, penalties, sum);
+        columnPass(costs, cases, penalties, sum, disparity);
         return;
     }
     // Three sweeps over the volume instead of eight. The down pass starts the sum while the up
@@ -409,7 +449,7 @@ void aggregateScanlines(const CostVolume& costs, const cv::Mat& bgr, const Scanl
             verticalPass(costs, sharedCases, penalties, task == 0 ? 1 : -1, task == 0 ? sum : up);
         }
     }, 2);
-    horizontalPass<false>(costs, cases, penalties, sum, &up);
+    horizontalPass<false>(costs, cases, penalties, sum, &up, disparity);
 }
 
 void aggregateScanlinesReference(const CostVolume& costs, const cv::Mat& bgr, const ScanlinePenalties& penalties,

@@ -173,9 +173,12 @@ ScanlinePenalties scanlinePenalties(const Parameters& parameters);
 int penaltyCase(int d1, int d2, int tau);
 // sum(p, d) = sum over the directions r of L_r(p, d): all 8, or the 4 along the axes (no
 // diagonals). With 8, a volume the size of costs is needed as scratch: `spare` when given (the
-// caller may lend one it is not using), else one kept per thread.
+// caller may lend one it is not using), else one kept per thread. `disparity`, when given, receives
+// the left view's winner-take-all of the sum (as winnerTakesAll), taken as each pixel's sum is
+// completed, CV_16SC1.
 void aggregateScanlines(const CostVolume& costs, const cv::Mat& bgr, const ScanlinePenalties& penalties,
-                        CostVolume& sum, int directions = 8, CostVolume* spare = nullptr);
+                        CostVolume& sum, int directions = 8, CostVolume* spare = nullptr,
+                        cv::Mat* disparity = nullptr);
 void aggregateScanlinesReference(const CostVolume& costs, const cv::Mat& bgr, const ScanlinePenalties& penalties,
                                  CostVolume& sum, int directions = 8);
 // One step of one direction: L(d) from the previous pixel's Lprev. Exposed for tests.
@@ -184,10 +187,9 @@ void scanlineStep(const std::uint16_t* cost, const std::uint16_t* previous, int 
 
 // ---- wta.cpp ----------------------------------------------------------------------------------
 // Winner-take-all of the left view, and of the right view from the same volume
-// (D_R(x) = argmin_d cost(x + d, d)). CV_16SC1.
+// (D_R(x) = argmin_d cost(x + d, d)). CV_16SC1. (The left view alone comes out of
+// aggregateScanlines.)
 void winnerTakesAll(const CostVolume& costs, cv::Mat& leftDisparity, cv::Mat& rightDisparity);
-// The left view alone.
-void winnerTakesAll(const CostVolume& costs, cv::Mat& leftDisparity);
 void winnerTakesAllReference(const CostVolume& costs, cv::Mat& leftDisparity, cv::Mat& rightDisparity);
 
 // ---- refinement.cpp ---------------------------------------------------------------------------

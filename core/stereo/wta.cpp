@@ -33,11 +33,12 @@ inline void updateScalar(const std::uint16_t* c, int x, int d0, int d1, std::uin
     }
 }
 
-// rightDisparity null: the left view alone (the right view comes from its own pass).
-void winnerTakesAllViews(const CostVolume& costs, cv::Mat& leftDisparity, cv::Mat* rightDisparity) {
+}  // namespace
+
+void winnerTakesAll(const CostVolume& costs, cv::Mat& leftDisparity, cv::Mat& rightDisparity) {
     const int width = costs.width, disparities = costs.disparities;
     leftDisparity.create(costs.height, width, CV_16SC1);
-    if (rightDisparity) rightDisparity->create(costs.height, width, CV_16SC1);
+    rightDisparity.create(costs.height, width, CV_16SC1);
     forEachStripe(costs.height, [&](int, int begin, int end) {
         std::vector<std::uint32_t> rightBest(static_cast<std::size_t>(width));
         const cv::v_uint32 step = cv::vx_setall_u32(kLanes32);
@@ -54,19 +55,16 @@ void winnerTakesAllViews(const CostVolume& costs, cv::Mat& leftDisparity, cv::Ma
                 for (int d = 0; d < vectorEnd; d += kLanes32) {
                     const cv::v_uint32 packed = (cv::vx_load_expand(c + d) << 16) | index;
                     best = cv::v_min(best, packed);
-                    if (rightDisparity) {
-                        // Right pixels x-d-n+1 .. x-d in memory order are candidates d+n-1 .. d.
-                        std::uint32_t* r = rightBest.data() + (x - d - (kLanes32 - 1));
-                        cv::v_store(r, cv::v_min(cv::vx_load(r), cv::v_reverse(packed)));
-                    }
+                    // Right pixels x-d-n+1 .. x-d in memory order are candidates d+n-1 .. d.
+                    std::uint32_t* r = rightBest.data() + (x - d - (kLanes32 - 1));
+                    cv::v_store(r, cv::v_min(cv::vx_load(r), cv::v_reverse(packed)));
                     index += step;
                 }
                 leftBest = std::min(leftBest, cv::v_reduce_min(best));
                 updateScalar(c, x, vectorEnd, valid, leftBest, rightBest.data());
                 left[x] = static_cast<std::int16_t>(leftBest & 0xFFFFu);
             }
-            if (!rightDisparity) continue;
-            auto* right = rightDisparity->ptr<std::int16_t>(y);
+            auto* right = rightDisparity.ptr<std::int16_t>(y);
             for (int x = 0; x < width; ++x) {
                 right[x] = rightBest[static_cast<std::size_t>(x)] == kNoCandidate
                                ? std::int16_t{-1}
@@ -74,16 +72,6 @@ void winnerTakesAllViews(const CostVolume& costs, cv::Mat& leftDisparity, cv::Ma
             }
         }
     });
-}
-
-}  // namespace
-
-void winnerTakesAll(const CostVolume& costs, cv::Mat& leftDisparity, cv::Mat& rightDisparity) {
-    winnerTakesAllViews(costs, leftDisparity, &rightDisparity);
-}
-
-void winnerTakesAll(const CostVolume& costs, cv::Mat& leftDisparity) {
-    winnerTakesAllViews(costs, leftDisparity, nullptr);
 }
 
 void winnerTakesAllReference(const CostVolume& costs, cv::Mat& leftDisparity, cv::Mat& rightDisparity) {

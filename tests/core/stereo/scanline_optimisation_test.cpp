@@ -74,6 +74,41 @@ TEST(ScanlineOptimisation, OptimisedEqualsReference) {
             }
 }
 
+// The winner taken as each pixel's sum is completed equals the winner-take-all of the finished
+// volume, ties included: costs drawn from a few values make equal sums common, and a flat volume
+// is all ties (every pixel takes d = 0).
+TEST(ScanlineOptimisation, WinnersOnTheWayEqualWinnerTakesAll) {
+    const cv::Mat image = test::randomImage(203, 37, CV_8UC3, 8);
+    cv::Mat smooth;
+    cv::GaussianBlur(image, smooth, cv::Size(0, 0), 2.0);
+    const ScanlinePenalties penalties = scanlinePenalties(Parameters{});
+    for (int disparities : {1, 11, 16, 40, 64})
+        for (int values : {1, 3, 3 * kCostScale})
+            for (int directions : {8, 4}) {
+                CostVolume costs;
+                costs.create(203, 37, disparities);
+                cv::RNG rng(static_cast<std::uint64_t>(disparities * 7 + values));
+                for (int y = 0; y < 37; ++y)
+                    for (int x = 0; x < 203; ++x) {
+                        std::uint16_t* c = costs.at(x, y);
+                        for (int d = 0; d < costs.stride; ++d) {
+                            c[d] = d < disparities ? static_cast<std::uint16_t>(rng.uniform(0, values) * (kCostScale / 4))
+                                                   : kPadCost;
+                        }
+                    }
+                CostVolume sum;
+                cv::Mat onTheWay, left, right;
+                aggregateScanlines(costs, smooth, penalties, sum, directions, nullptr, &onTheWay);
+                winnerTakesAllReference(sum, left, right);
+                ASSERT_EQ(onTheWay.type(), CV_16SC1);
+                EXPECT_EQ(cv::countNonZero(onTheWay != left), 0)
+                    << disparities << " disparities, " << values << " cost values, " << directions << " directions";
+                if (values == 1) {
+                    EXPECT_EQ(cv::countNonZero(onTheWay), 0);
+                }
+            }
+}
+
 TEST(ScanlineOptimisation, FourDirectionsLeaveOutTheDiagonals) {
     // A flat image (every penalty case 0) and zero cost except a column of high cost at x = 4,
     // d = 3. At (5, 4), d = 3, each path arriving from column 4 pays P1 to leave that cost

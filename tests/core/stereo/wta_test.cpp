@@ -34,14 +34,6 @@ TEST(WinnerTakesAll, OptimisedEqualsReference) {
     }
 }
 
-TEST(WinnerTakesAll, LeftViewAloneIsTheSame) {
-    const CostVolume costs = randomVolume(101, 13, 21, 7);
-    cv::Mat bothLeft, bothRight, aloneLeft;
-    winnerTakesAll(costs, bothLeft, bothRight);
-    winnerTakesAll(costs, aloneLeft);
-    EXPECT_EQ(cv::countNonZero(aloneLeft != bothLeft), 0);
-}
-
 TEST(WinnerTakesAll, TiesGoToTheSmallerDisparity) {
     CostVolume costs;
     costs.create(12, 1, 9);
