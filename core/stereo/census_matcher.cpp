@@ -75,33 +75,49 @@ cv::Mat CensusMatcher::compute(const cv::Mat& left, const cv::Mat& right, int ma
         for (int eye = r.start; eye < r.end; ++eye) prepareEye(eye == 0, alpha);
     }, 2);
 
-    // 2. Matching cost per pixel and disparity.
-    if (method_ == Method::Paper) {
-        paperCost(leftInputs, rightInputs, p, costs_);
-    } else {
-        adCensusCost(leftInputs, rightInputs, p, costs_);
-    }
-
-    // 3. The right view, when it gets its own pass: its costs read off the left volume (mirrored,
-    //    so it is the left view of the mirrored pair), cross regions of the right image,
-    //    aggregation, scanlines (4 directions by default: Parameters explains) with winner-take-all. Run first, so that the left view's
-    //    aggregated volume is the one left in scratch_ for the refinement.
-    cv::Mat rightDisparity;
-    const ScanlinePenalties penalties = scanlinePenalties(p);
-    if (p.rightViewAggregation) {
-        rightViewCosts(costs_, method_ == Method::Paper ? kPaperInvalidCost : kAdCensusInvalidCost, rightCosts_);
-        cv::Mat mirroredRight, mirroredDisparity;
+    // 2. Cross-based support regions of both images (the right one mirrored, so that the right view
+    //    is the left view of the mirrored pair and every stage applies to it unchanged).
+    const bool rightView = p.rightViewAggregation;
+    cv::Mat mirroredRight;
+    computeCrossArms(bgrLeft, p, arms_);
+    if (rightView) {
         cv::flip(bgrRight, mirroredRight, 1);
         computeCrossArms(mirroredRight, p, rightArms_);
-        aggregateCross(rightArms_, p.crossIterations, rightCosts_, scratch_);
+        rightCosts_.create(costs_.width, costs_.height, costs_.disparities);
+    }
+
+    // 3. Matching cost per pixel and disparity. Each row, as soon as it is complete and while it is
+    //    still in cache: the right view's costs read off it, then the first aggregation pass (means
+    //    along the rows) of both views.
+    const bool rowsFirst = p.crossIterations > 0;
+    const std::uint16_t invalid = method_ == Method::Paper ? kPaperInvalidCost : kAdCensusInvalidCost;
+    const CostRowHook rowDone = [&](int y) {
+        if (rightView) rightViewCostsRow(costs_, invalid, rightCosts_, y);
+        if (!rowsFirst) return;
+        meanAlongRow(arms_, costs_, y);
+        if (rightView) meanAlongRow(rightArms_, rightCosts_, y);
+    };
+    if (method_ == Method::Paper) {
+        paperCost(leftInputs, rightInputs, p, costs_, rowDone);
+    } else {
+        adCensusCost(leftInputs, rightInputs, p, costs_, rowDone);
+    }
+
+    // 4. The right view, when it gets its own pass: the rest of its aggregation, scanlines
+    //    (4 directions by default: Parameters explains) with winner-take-all. Run first, so that
+    //    the left view's aggregated volume is the one left in scratch_ for the refinement.
+    cv::Mat rightDisparity;
+    const ScanlinePenalties penalties = scanlinePenalties(p);
+    if (rightView) {
+        cv::Mat mirroredDisparity;
+        aggregateCross(rightArms_, p.crossIterations, rightCosts_, scratch_, rowsFirst);
         aggregateScanlines(rightCosts_, mirroredRight, penalties, scratch_, p.rightViewScanlineDirections, nullptr,
                            &mirroredDisparity);
         cv::flip(mirroredDisparity, rightDisparity, 1);
     }
 
-    // 4. Cross-based support regions of the left image; aggregation over them.
-    computeCrossArms(bgrLeft, p, arms_);
-    aggregateCross(arms_, p.crossIterations, costs_, scratch_);
+    // The rest of the left view's aggregation over its support regions.
+    aggregateCross(arms_, p.crossIterations, costs_, scratch_, rowsFirst);
 
     // 5. Scanline optimisation along 8 directions, summed into the second volume; winner-take-all
     //    as each pixel's sum is completed (both views from the finished volume, the right one along

@@ -252,7 +252,8 @@ void costReference(const Terms& terms, const CostInputs& left, const CostInputs&
 }
 
 template <class Terms>
-void costOptimised(const Terms& terms, const CostInputs& left, const CostInputs& right, CostVolume& out) {
+void costOptimised(const Terms& terms, const CostInputs& left, const CostInputs& right, CostVolume& out,
+                   const CostRowHook& rowDone) {
     const int width = left.bgr.cols;
     const int disparities = out.disparities;
     const int blocks = (disparities + kVec8 - 1) / kVec8 * kVec8;
@@ -289,14 +290,16 @@ void costOptimised(const Terms& terms, const CostInputs& left, const CostInputs&
                 std::fill(cell + valid, cell + disparities, terms.invalid);
                 std::fill(cell + disparities, cell + out.stride, kPadCost);
             }
+            if (rowDone) rowDone(y);
         }
     });
 }
 
 }  // namespace
 
-void paperCost(const CostInputs& left, const CostInputs& right, const Parameters& parameters, CostVolume& out) {
-    costOptimised(PaperTerms(parameters), left, right, out);
+void paperCost(const CostInputs& left, const CostInputs& right, const Parameters& parameters, CostVolume& out,
+               const CostRowHook& rowDone) {
+    costOptimised(PaperTerms(parameters), left, right, out, rowDone);
 }
 
 void paperCostReference(const CostInputs& left, const CostInputs& right, const Parameters& parameters,
@@ -304,8 +307,9 @@ void paperCostReference(const CostInputs& left, const CostInputs& right, const P
     costReference(PaperTerms(parameters), left, right, out);
 }
 
-void adCensusCost(const CostInputs& left, const CostInputs& right, const Parameters& parameters, CostVolume& out) {
-    costOptimised(MeiTerms(parameters), left, right, out);
+void adCensusCost(const CostInputs& left, const CostInputs& right, const Parameters& parameters, CostVolume& out,
+                  const CostRowHook& rowDone) {
+    costOptimised(MeiTerms(parameters), left, right, out, rowDone);
 }
 
 void adCensusCostReference(const CostInputs& left, const CostInputs& right, const Parameters& parameters,
@@ -313,18 +317,21 @@ void adCensusCostReference(const CostInputs& left, const CostInputs& right, cons
     costReference(MeiTerms(parameters), left, right, out);
 }
 
-void rightViewCosts(const CostVolume& left, std::uint16_t invalid, CostVolume& mirroredRight) {
+void rightViewCostsRow(const CostVolume& left, std::uint16_t invalid, CostVolume& mirroredRight, int y) {
     const int width = left.width, disparities = left.disparities;
-    mirroredRight.create(width, left.height, disparities);
+    for (int x = 0; x < width; ++x) {
+        std::uint16_t* cell = mirroredRight.at(width - 1 - x, y);
+        const int valid = std::min(disparities, width - x);  // left pixel x + d inside
+        for (int d = 0; d < valid; ++d) cell[d] = left.at(x + d, y)[d];
+        std::fill(cell + valid, cell + disparities, invalid);
+        std::fill(cell + disparities, cell + mirroredRight.stride, kPadCost);
+    }
+}
+
+void rightViewCosts(const CostVolume& left, std::uint16_t invalid, CostVolume& mirroredRight) {
+    mirroredRight.create(left.width, left.height, left.disparities);
     forEachStripe(left.height, [&](int, int begin, int end) {
-        for (int y = begin; y < end; ++y)
-            for (int x = 0; x < width; ++x) {
-                std::uint16_t* cell = mirroredRight.at(width - 1 - x, y);
-                const int valid = std::min(disparities, width - x);  // left pixel x + d inside
-                for (int d = 0; d < valid; ++d) cell[d] = left.at(x + d, y)[d];
-                std::fill(cell + valid, cell + disparities, invalid);
-                std::fill(cell + disparities, cell + mirroredRight.stride, kPadCost);
-            }
+        for (int y = begin; y < end; ++y) rightViewCostsRow(left, invalid, mirroredRight, y);
     });
 }
 

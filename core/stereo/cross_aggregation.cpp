@@ -299,29 +299,32 @@ void lineMeans(const std::uint16_t* cost, std::uint16_t* out, std::ptrdiff_t pix
     }
 }
 
-// Weighted mean along each pixel's horizontal arm, in place: out(p) = Σ w(q) c(q) / Σ w(q), q on
-// the arm; kWeighted: w(q) is q's vertical line count, else 1. Rows split over stripes.
+// Weighted mean along each pixel's horizontal arm in row y, in place: out(p) = Σ w(q) c(q) / Σ w(q),
+// q on the arm; kWeighted: w(q) is q's vertical line count, else 1.
+template <bool kWeighted>
+void rowMeans(const CrossArms& arms, CostVolume& costs, int y) {
+    const int width = costs.width, stride = costs.stride;
+    // Per thread, grown once for the largest image (no allocation per pair).
+    thread_local Windows windows;
+    thread_local std::vector<std::uint32_t> prefix;
+    windows.resize(static_cast<std::size_t>(width));
+    if (kWeighted) {
+        const std::uint8_t* up = arms.up.ptr<std::uint8_t>(y);
+        const std::uint8_t* down = arms.down.ptr<std::uint8_t>(y);
+        for (int x = 0; x < width; ++x) {
+            windows.weight[static_cast<std::size_t>(x)] = static_cast<std::uint16_t>(up[x] + down[x] + 1);
+        }
+    }
+    setWindows<kWeighted>(arms.left.ptr<std::uint8_t>(y), arms.right.ptr<std::uint8_t>(y), 1, width, 1, windows);
+    std::uint16_t* row = costs.at(0, y);
+    lineMeans<kWeighted, 1>(row, row, stride, 0, width, stride, windows, prefix);
+}
+
+// The same for every row, rows split over stripes.
 template <bool kWeighted>
 void horizontalMeans(const CrossArms& arms, CostVolume& costs) {
-    const int width = costs.width, stride = costs.stride;
     forEachStripe(costs.height, [&](int, int begin, int end) {
-        // Per thread, grown once for the largest image (no allocation per pair).
-        thread_local Windows windows;
-        thread_local std::vector<std::uint32_t> prefix;
-        windows.resize(static_cast<std::size_t>(width));
-        for (int y = begin; y < end; ++y) {
-            if (kWeighted) {
-                const std::uint8_t* up = arms.up.ptr<std::uint8_t>(y);
-                const std::uint8_t* down = arms.down.ptr<std::uint8_t>(y);
-                for (int x = 0; x < width; ++x) {
-                    windows.weight[static_cast<std::size_t>(x)] = static_cast<std::uint16_t>(up[x] + down[x] + 1);
-                }
-            }
-            setWindows<kWeighted>(arms.left.ptr<std::uint8_t>(y), arms.right.ptr<std::uint8_t>(y), 1, width, 1,
-                                  windows);
-            std::uint16_t* row = costs.at(0, y);
-            lineMeans<kWeighted, 1>(row, row, stride, 0, width, stride, windows, prefix);
-        }
+        for (int y = begin; y < end; ++y) rowMeans<kWeighted>(arms, costs, y);
     });
 }
 
@@ -380,11 +383,15 @@ void verticalMeans(const CrossArms& arms, const CostVolume& costs, CostVolume& o
 
 }  // namespace
 
-void aggregateCross(const CrossArms& arms, int iterations, CostVolume& costs, CostVolume& scratch) {
+void meanAlongRow(const CrossArms& arms, CostVolume& costs, int y) {
+    rowMeans<false>(arms, costs, y);
+}
+
+void aggregateCross(const CrossArms& arms, int iterations, CostVolume& costs, CostVolume& scratch, bool rowsDone) {
     scratch.create(costs.width, costs.height, costs.disparities);
     for (int iteration = 0; iteration < iterations; ++iteration) {
         if (horizontalFirst(iteration)) {
-            horizontalMeans<false>(arms, costs);
+            if (iteration > 0 || !rowsDone) horizontalMeans<false>(arms, costs);
             verticalMeans<true>(arms, costs, scratch);
         } else {
             verticalMeans<false>(arms, costs, scratch);

@@ -4,6 +4,7 @@
 // *Reference twin computing the same integers; tests compare the two exactly.
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -134,12 +135,17 @@ struct CostInputs {
     cv::Mat windowMask;   // CV_8UC1 (Paper, left image only)
     const CensusImage* census = nullptr;
 };
+// Called with y as soon as row y of the cost volume is complete, on the thread that computed it, so
+// that the next stages can start on the row while it is still in cache.
+using CostRowHook = std::function<void(int y)>;
 // Paper: C = (1 - exp(-C_cen/λcen)) + (1 - exp(-C_AD/λAD)) + (1 - exp(-C_grad/λgrad)).
-void paperCost(const CostInputs& left, const CostInputs& right, const Parameters& parameters, CostVolume& out);
+void paperCost(const CostInputs& left, const CostInputs& right, const Parameters& parameters, CostVolume& out,
+               const CostRowHook& rowDone = {});
 void paperCostReference(const CostInputs& left, const CostInputs& right, const Parameters& parameters,
                         CostVolume& out);
 // Mei: C = (1 - exp(-C_census/λcensus)) + (1 - exp(-C_AD/λAD)), C_AD the mean over R,G,B.
-void adCensusCost(const CostInputs& left, const CostInputs& right, const Parameters& parameters, CostVolume& out);
+void adCensusCost(const CostInputs& left, const CostInputs& right, const Parameters& parameters, CostVolume& out,
+                  const CostRowHook& rowDone = {});
 void adCensusCostReference(const CostInputs& left, const CostInputs& right, const Parameters& parameters,
                            CostVolume& out);
 // Cost of a pair where neither pixel lies inside the other image (x - d < 0), per method.
@@ -150,6 +156,8 @@ inline constexpr std::uint16_t kAdCensusInvalidCost = 2 * kCostScale;
 // view of the mirrored pair and every later stage applies unchanged; pairs whose left pixel lies
 // outside the image (x + d >= W) cost `invalid`.
 void rightViewCosts(const CostVolume& left, std::uint16_t invalid, CostVolume& mirroredRight);
+// The same for row y alone, into a volume already created at the left one's size.
+void rightViewCostsRow(const CostVolume& left, std::uint16_t invalid, CostVolume& mirroredRight, int y);
 
 // ---- cross_aggregation.cpp --------------------------------------------------------------------
 // D_c: the largest absolute difference over the colour channels.
@@ -159,7 +167,13 @@ void computeCrossArmsReference(const cv::Mat& bgr, const Parameters& parameters,
 // `iterations` times, alternating the order (even iterations horizontal then vertical, odd ones
 // vertical then horizontal): arm sums along one axis, then the count-weighted sum of those along
 // the other, divided by the region's pixel count. Result back in costs; scratch is a second volume.
-void aggregateCross(const CrossArms& arms, int iterations, CostVolume& costs, CostVolume& scratch);
+// rowsDone: meanAlongRow has already run on every row (the first pass of the first iteration).
+void aggregateCross(const CrossArms& arms, int iterations, CostVolume& costs, CostVolume& scratch,
+                    bool rowsDone = false);
+// The first pass of aggregateCross for row y alone, in place: the plain mean along each pixel's
+// horizontal arm. The matcher runs it on each row as the cost stage completes it, while the row is
+// still in cache, instead of reading the whole volume back from memory.
+void meanAlongRow(const CrossArms& arms, CostVolume& costs, int y);
 void aggregateCrossReference(const CrossArms& arms, int iterations, CostVolume& costs);
 
 // ---- scanline_optimisation.cpp ----------------------------------------------------------------

@@ -39,6 +39,52 @@ TEST(Costs, PaperOptimisedEqualsReference) {
     }
 }
 
+// The matcher's order: each cost row, as soon as it is complete, gives the right view's row and goes
+// through the first aggregation pass of both views; aggregation then carries on from there. The
+// result equals the stages run one after the other over whole volumes, by their references.
+TEST(Costs, RowsHandedOnAsTheyCompleteGiveTheSameAggregation) {
+    Pair p = randomPair(211, 97);
+    cv::GaussianBlur(p.bgrLeft, p.bgrLeft, cv::Size(0, 0), 2.0);  // long arms, several penalty cases
+    cv::GaussianBlur(p.bgrRight, p.bgrRight, cv::Size(0, 0), 2.0);
+    cv::cvtColor(p.bgrLeft, p.greyLeft, cv::COLOR_BGR2GRAY);
+    cv::cvtColor(p.bgrRight, p.greyRight, cv::COLOR_BGR2GRAY);
+    const Parameters parameters;
+    CensusImage censusLeft, censusRight;
+    CostInputs left{p.bgrLeft, channelGradientMagnitudes(p.bgrLeft), censusWindowMask(p.greyLeft, 0.5), &censusLeft};
+    CostInputs right{p.bgrRight, channelGradientMagnitudes(p.bgrRight), cv::Mat(), &censusRight};
+    improvedCensus(p.greyLeft, edgeCornerBits(p.greyLeft, parameters), 2, left.windowMask, censusLeft);
+    improvedCensus(p.greyRight, edgeCornerBits(p.greyRight, parameters), 2, cv::Mat(), censusRight);
+    cv::Mat mirroredRight;
+    cv::flip(p.bgrRight, mirroredRight, 1);
+    CrossArms leftArms, rightArms;
+    computeCrossArms(p.bgrLeft, parameters, leftArms);
+    computeCrossArms(mirroredRight, parameters, rightArms);
+    for (const int iterations : {1, 2}) {
+        CostVolume costs, rightCosts, scratch;
+        costs.create(211, 97, 40);
+        rightCosts.create(211, 97, 40);
+        std::vector<int> calls(97, 0);
+        paperCost(left, right, parameters, costs, [&](int y) {
+            ++calls[static_cast<std::size_t>(y)];
+            rightViewCostsRow(costs, kPaperInvalidCost, rightCosts, y);
+            meanAlongRow(leftArms, costs, y);
+            meanAlongRow(rightArms, rightCosts, y);
+        });
+        EXPECT_EQ(calls, std::vector<int>(97, 1));
+        aggregateCross(leftArms, iterations, costs, scratch, true);
+        aggregateCross(rightArms, iterations, rightCosts, scratch, true);
+
+        CostVolume plain, plainRight;
+        plain.create(211, 97, 40);
+        paperCostReference(left, right, parameters, plain);
+        rightViewCosts(plain, kPaperInvalidCost, plainRight);
+        aggregateCrossReference(leftArms, iterations, plain);
+        aggregateCrossReference(rightArms, iterations, plainRight);
+        EXPECT_EQ(costs.data, plain.data) << iterations;
+        EXPECT_EQ(rightCosts.data, plainRight.data) << iterations;
+    }
+}
+
 // λs so large that the AD and gradient terms never saturate: the optimised kernel looks them up
 // apart instead of from one summed table.
 TEST(Costs, PaperOptimisedEqualsReferenceWithUnsaturatedTerms) {
