@@ -317,14 +317,76 @@ void adCensusCostReference(const CostInputs& left, const CostInputs& right, cons
     costReference(MeiTerms(parameters), left, right, out);
 }
 
+namespace {
+
+// Transposes 8x8 16-bit values, row i in r[i], in place: interleaving pairs of 16-bit, then
+// 32-bit, then 64-bit lanes.
+[[gnu::always_inline]] inline void transpose8x8(cv::v_uint16x8 r[8]) {
+    cv::v_uint16x8 t[8];
+    for (int i = 0; i < 8; i += 2) cv::v_zip(r[i], r[i + 1], t[i], t[i + 1]);
+    cv::v_uint32x4 u[8];
+    for (int i = 0; i < 8; i += 4) {
+        cv::v_zip(cv::v_reinterpret_as_u32(t[i]), cv::v_reinterpret_as_u32(t[i + 2]), u[i], u[i + 1]);
+        cv::v_zip(cv::v_reinterpret_as_u32(t[i + 1]), cv::v_reinterpret_as_u32(t[i + 3]), u[i + 2], u[i + 3]);
+    }
+    for (int i = 0; i < 4; ++i) {
+        r[2 * i] = cv::v_reinterpret_as_u16(cv::v_combine_low(u[i], u[i + 4]));
+        r[2 * i + 1] = cv::v_reinterpret_as_u16(cv::v_combine_high(u[i], u[i + 4]));
+    }
+}
+
+}  // namespace
+
+// Read straight off the left volume, the right view's cell is a gather with a stride of one pixel
+// plus one disparity, one value at a time. Turned disparity-major (one line per disparity), the
+// row's diagonals become plain shifted lines: the row goes there and back by 8x8 vector
+// transposes, the way back reading each disparity's line shifted by that disparity.
 void rightViewCostsRow(const CostVolume& left, std::uint16_t invalid, CostVolume& mirroredRight, int y) {
-    const int width = left.width, disparities = left.disparities;
-    for (int x = 0; x < width; ++x) {
-        std::uint16_t* cell = mirroredRight.at(width - 1 - x, y);
-        const int valid = std::min(disparities, width - x);  // left pixel x + d inside
-        for (int d = 0; d < valid; ++d) cell[d] = left.at(x + d, y)[d];
-        std::fill(cell + valid, cell + disparities, invalid);
-        std::fill(cell + disparities, cell + mirroredRight.stride, kPadCost);
+    constexpr int kBlock = 8;
+    const int width = left.width, disparities = left.disparities, stride = left.stride;
+    static_assert(kDisparityAlign % kBlock == 0, "whole blocks along the padded disparity axis");
+    // Line d holds cost(x, y, d) for x < width, then what a right pixel whose partner would lie
+    // beyond the row's end gets: `invalid`, or kPadCost on the padded disparities.
+    const auto pitch = static_cast<std::size_t>((width + stride + kBlock - 1) / kBlock * kBlock);
+    thread_local std::vector<std::uint16_t> lines;  // grown once for the largest image
+    lines.resize(static_cast<std::size_t>(stride) * pitch);
+    // Plain pointers and sizes in locals: read through the volumes' members, they were reloaded
+    // after every store.
+    std::uint16_t* const linesData = lines.data();
+    auto line = [linesData, pitch](int d) { return linesData + static_cast<std::size_t>(d) * pitch; };
+    const auto cell = static_cast<std::size_t>(stride);
+    const std::uint16_t* const source = left.at(0, y);
+    std::uint16_t* const target = mirroredRight.at(0, y);
+    const int blockEnd = width / kBlock * kBlock;
+    cv::v_uint16x8 r[kBlock];
+    for (int x0 = 0; x0 < blockEnd; x0 += kBlock)
+        for (int d0 = 0; d0 < disparities; d0 += kBlock) {
+            for (int i = 0; i < kBlock; ++i) r[i] = cv::v_load(source + static_cast<std::size_t>(x0 + i) * cell + d0);
+            transpose8x8(r);
+            for (int j = 0; j < kBlock; ++j) cv::v_store(line(d0 + j) + x0, r[j]);
+        }
+    for (int x = blockEnd; x < width; ++x)
+        for (int d = 0; d < disparities; ++d) line(d)[x] = left.at(x, y)[d];
+    for (int d = 0; d < stride; ++d) {
+        std::uint16_t* l = line(d);
+        if (d < disparities) {
+            std::fill(l + width, l + pitch, invalid);
+        } else {
+            std::fill(l, l + pitch, kPadCost);
+        }
+    }
+    // Right pixel x at d is left pixel x + d: line d from x + d on; stored at column width - 1 - x.
+    for (int x0 = 0; x0 < blockEnd; x0 += kBlock)
+        for (int d0 = 0; d0 < stride; d0 += kBlock) {
+            for (int j = 0; j < kBlock; ++j) r[j] = cv::v_load(line(d0 + j) + x0 + d0 + j);
+            transpose8x8(r);
+            for (int i = 0; i < kBlock; ++i) {
+                cv::v_store(target + static_cast<std::size_t>(width - 1 - (x0 + i)) * cell + d0, r[i]);
+            }
+        }
+    for (int x = blockEnd; x < width; ++x) {
+        std::uint16_t* out = target + static_cast<std::size_t>(width - 1 - x) * cell;
+        for (int d = 0; d < stride; ++d) out[d] = line(d)[x + d];
     }
 }
 

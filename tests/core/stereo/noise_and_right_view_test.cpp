@@ -1,3 +1,4 @@
+#include <tuple>
 #include <utility>
 
 #include <gtest/gtest.h>
@@ -124,6 +125,33 @@ TEST(RightViewCosts, MirroredDiagonalsOfTheLeftVolume) {
     EXPECT_EQ(right.at(0, 0)[1], 999);
     EXPECT_EQ(right.at(0, 0)[2], 999);
     EXPECT_EQ(right.at(0, 0)[right.stride - 1], kPadCost);
+}
+
+// The transposing kernel against the definition, one value at a time: widths that are and are not
+// whole blocks, disparity counts with and without padding, more disparities than pixels; the left
+// volume's padded lanes hold junk, which must not come through.
+TEST(RightViewCosts, OptimisedEqualsThePlainDiagonals) {
+    for (const auto& [width, height, disparities] :
+         {std::tuple{631, 7, 64}, std::tuple{631, 3, 37}, std::tuple{13, 2, 16}, std::tuple{5, 2, 64},
+          std::tuple{16, 1, 9}, std::tuple{1, 1, 1}}) {
+        CostVolume left;
+        left.create(width, height, disparities);
+        cv::RNG rng(static_cast<std::uint64_t>(width * 100 + disparities));
+        for (auto& c : left.data) c = static_cast<std::uint16_t>(rng.uniform(0, 65536));
+        CostVolume fast;
+        rightViewCosts(left, 999, fast);
+        bool same = fast.width == width && fast.height == height && fast.stride == left.stride;
+        for (int y = 0; y < height && same; ++y)
+            for (int x = 0; x < width && same; ++x) {
+                const std::uint16_t* cell = fast.at(width - 1 - x, y);
+                for (int d = 0; d < left.stride; ++d) {
+                    const std::uint16_t expected =
+                        d >= disparities ? kPadCost : (x + d < width ? left.at(x + d, y)[d] : std::uint16_t{999});
+                    same = same && cell[d] == expected;
+                }
+            }
+        EXPECT_TRUE(same) << width << "x" << height << ", " << disparities << " disparities";
+    }
 }
 
 }  // namespace
