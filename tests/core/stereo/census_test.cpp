@@ -1,12 +1,72 @@
 #include <gtest/gtest.h>
 
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
 #include "core/stereo/stages.hpp"
 #include "tests/core/stereo/stereo_test_images.hpp"
+#include "tests/support/test_paths.hpp"
 
 namespace icewatch::stereo::detail {
 namespace {
 
+// The edge and corner bits by their definition: OpenCV's Canny on the 3x3 Sobel derivatives, and
+// Harris from OpenCV's float box filter over the derivatives' products, response in double.
+cv::Mat edgeCornerBitsByDefinition(const cv::Mat& grey, const Parameters& parameters) {
+    cv::Mat dx, dy;
+    cv::Sobel(grey, dx, CV_16S, 1, 0, 3, 1.0, 0.0, cv::BORDER_REPLICATE);
+    cv::Sobel(grey, dy, CV_16S, 0, 1, 3, 1.0, 0.0, cv::BORDER_REPLICATE);
+    cv::Mat edges;
+    cv::Canny(dx, dy, edges, parameters.cannyLowThreshold, parameters.cannyHighThreshold, true);
+    cv::Mat fx, fy, xx, xy, yy;
+    dx.convertTo(fx, CV_32F);
+    dy.convertTo(fy, CV_32F);
+    cv::boxFilter(fx.mul(fx), xx, CV_32F, {3, 3}, {-1, -1}, false, cv::BORDER_REPLICATE);
+    cv::boxFilter(fx.mul(fy), xy, CV_32F, {3, 3}, {-1, -1}, false, cv::BORDER_REPLICATE);
+    cv::boxFilter(fy.mul(fy), yy, CV_32F, {3, 3}, {-1, -1}, false, cv::BORDER_REPLICATE);
+    cv::Mat response(grey.size(), CV_64F);
+    double maxResponse = 0.0;
+    for (int y = 0; y < grey.rows; ++y)
+        for (int x = 0; x < grey.cols; ++x) {
+            const double a = xx.at<float>(y, x), b = xy.at<float>(y, x), c = yy.at<float>(y, x);
+            response.at<double>(y, x) = a * c - b * b - 0.04 * (a + c) * (a + c);
+            maxResponse = std::max(maxResponse, response.at<double>(y, x));
+        }
+    cv::Mat bits(grey.size(), CV_8UC1);
+    for (int y = 0; y < grey.rows; ++y)
+        for (int x = 0; x < grey.cols; ++x) {
+            const bool corner = maxResponse > 0.0 && response.at<double>(y, x) > parameters.harrisThreshold * maxResponse;
+            bits.at<std::uint8_t>(y, x) = static_cast<std::uint8_t>((edges.at<std::uint8_t>(y, x) ? 2 : 0) + (corner ? 1 : 0));
+        }
+    return bits;
+}
+
 int nibbleAt(const std::uint64_t* words, int k) { return static_cast<int>((words[k >> 4] >> (4 * (k & 15))) & 0xF); }
+
+TEST(EdgeCornerBits, EqualTheDefinition) {
+    std::vector<cv::Mat> images;
+    for (const auto& [width, height] : {std::pair{631, 479}, std::pair{17, 9}, std::pair{1, 5}}) {
+        cv::Mat grey = test::randomImage(width, height, CV_8UC1, 21), smooth;
+        cv::GaussianBlur(grey, smooth, cv::Size(0, 0), 1.5);
+        images.push_back(grey);
+        images.push_back(smooth);
+    }
+    images.push_back(cv::imread((icewatch::test::sharedData() / "middlebury" / "cones" / "left.png").string(),
+                                cv::IMREAD_GRAYSCALE));
+    ASSERT_FALSE(images.back().empty());
+    for (const double threshold : {0.001, 0.05}) {
+        Parameters parameters;
+        parameters.harrisThreshold = threshold;
+        for (const cv::Mat& grey : images) {
+            const cv::Mat fast = edgeCornerBits(grey, parameters), plain = edgeCornerBitsByDefinition(grey, parameters);
+            EXPECT_EQ(cv::countNonZero(fast != plain), 0) << grey.cols << "x" << grey.rows << ", " << threshold;
+            // Corners occur, except on a single column, where there is no horizontal derivative.
+            if (grey.cols > 1) {
+                EXPECT_GT(cv::countNonZero(plain & 1), 0) << grey.cols << "x" << grey.rows;
+            }
+        }
+    }
+}
 
 TEST(ImprovedCensus, HandComputedCodeWithTrimmedMeanAndAlphaBand) {
     // A 9x9 image, all 100 except a few chosen pixels around the centre (4, 4). 7x7 window of the
