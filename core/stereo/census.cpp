@@ -118,13 +118,32 @@ cv::Mat channelGradientMagnitudes(const cv::Mat& bgr) {
     // 63.75 grey levels per pixel (strong edges, where Census and AD decide anyway) saturate.
     // sqrt((dx² + dy²) / 64) is exact up to the float square root's rounding, as the float Sobel
     // (scaled by 1/8) and cv::magnitude computed it.
+    // The vector loop does the same float operations (squares summed exactly in 32-bit integers,
+    // the exact 1/64, sqrt, round to nearest even, saturation), so it gives the same bytes.
     cv::Mat magnitude8(bgr.size(), CV_8UC(bgr.channels()));
     const int values = bgr.cols * bgr.channels();
+    constexpr int kStep = cv::v_uint8::nlanes;  // values per iteration: 4 float vectors
+    const int vectorEnd = values / kStep * kStep;
+    const cv::v_float32 scale = cv::vx_setall_f32(1.0f / 64.0f), steps = cv::vx_setall_f32(kGradientSteps);
+    auto magnitudes = [&](const cv::v_int16& x, const cv::v_int16& y) {
+        cv::v_int32 x0, x1, y0, y1;
+        cv::v_expand(x, x0, x1);
+        cv::v_expand(y, y0, y1);
+        const cv::v_int32 a = cv::v_round(cv::v_sqrt(cv::v_cvt_f32(x0 * x0 + y0 * y0) * scale) * steps);
+        const cv::v_int32 b = cv::v_round(cv::v_sqrt(cv::v_cvt_f32(x1 * x1 + y1 * y1) * scale) * steps);
+        return cv::v_pack(a, b);  // saturating to int16; magnitudes are far below its range
+    };
     for (int y = 0; y < bgr.rows; ++y) {
         const auto* gx = dx.ptr<std::int16_t>(y);
         const auto* gy = dy.ptr<std::int16_t>(y);
         auto* out = magnitude8.ptr<std::uint8_t>(y);
-        for (int i = 0; i < values; ++i) {
+        for (int i = 0; i < vectorEnd; i += kStep) {
+            constexpr int kHalf = kStep / 2;
+            const cv::v_int16 lo = magnitudes(cv::vx_load(gx + i), cv::vx_load(gy + i));
+            const cv::v_int16 hi = magnitudes(cv::vx_load(gx + i + kHalf), cv::vx_load(gy + i + kHalf));
+            cv::v_store(out + i, cv::v_pack_u(lo, hi));  // saturating to 0..255
+        }
+        for (int i = vectorEnd; i < values; ++i) {
             const float squared = static_cast<float>(gx[i] * gx[i] + gy[i] * gy[i]) * (1.0f / 64.0f);
             out[i] = cv::saturate_cast<std::uint8_t>(std::sqrt(squared) * static_cast<float>(kGradientSteps));
         }

@@ -68,6 +68,37 @@ TEST(EdgeCornerBits, EqualTheDefinition) {
     }
 }
 
+// Per channel: sqrt(Sobel_x² + Sobel_y²) / 8 in grey levels per pixel, in kGradientSteps steps,
+// rounded, saturated at 255 (steep edges of a drawn image reach it).
+TEST(ChannelGradientMagnitudes, EqualTheDefinition) {
+    std::vector<cv::Mat> images;
+    for (const auto& [width, height] : {std::pair{631, 479}, std::pair{17, 9}, std::pair{3, 2}}) {
+        images.push_back(test::randomImage(width, height, CV_8UC3, 22));
+    }
+    cv::Mat blocks(40, 57, CV_8UC3, cv::Scalar(0, 0, 0));
+    cv::rectangle(blocks, {10, 10, 20, 15}, cv::Scalar(255, 128, 3), cv::FILLED);
+    images.push_back(blocks);
+    for (const cv::Mat& bgr : images) {
+        cv::Mat dx, dy;
+        cv::Sobel(bgr, dx, CV_32F, 1, 0, 3, 1.0 / 8.0, 0.0, cv::BORDER_REPLICATE);
+        cv::Sobel(bgr, dy, CV_32F, 0, 1, 3, 1.0 / 8.0, 0.0, cv::BORDER_REPLICATE);
+        const cv::Mat fast = channelGradientMagnitudes(bgr);
+        ASSERT_EQ(fast.type(), CV_8UC3);
+        int differ = 0, saturated = 0;
+        for (int y = 0; y < bgr.rows; ++y)
+            for (int x = 0; x < bgr.cols * 3; ++x) {
+                const float gx = dx.ptr<float>(y)[x], gy = dy.ptr<float>(y)[x];
+                const auto expected = cv::saturate_cast<std::uint8_t>(std::sqrt(gx * gx + gy * gy) * kGradientSteps);
+                differ += fast.ptr<std::uint8_t>(y)[x] != expected;
+                saturated += expected == 255;
+            }
+        EXPECT_EQ(differ, 0) << bgr.cols << "x" << bgr.rows;
+        if (bgr.cols == 57) {
+            EXPECT_GT(saturated, 0);
+        }
+    }
+}
+
 TEST(ImprovedCensus, HandComputedCodeWithTrimmedMeanAndAlphaBand) {
     // A 9x9 image, all 100 except a few chosen pixels around the centre (4, 4). 7x7 window of the
     // centre: 49 values. Put one 255 (the maximum, dropped) and one 0 (the minimum, dropped), a 103
