@@ -73,6 +73,27 @@ TEST(CensusMatcher, FindsAConstantShift) {
     }
 }
 
+// The matcher's other arrangements of its stages: no right-view pass (both views from the left
+// volume), no cross aggregation (the cost rows go straight to the scanlines), two cross passes
+// (the second starting with the columns), 8 scanline directions for the right view.
+TEST(CensusMatcher, FindsAConstantShiftInEveryArrangementOfItsStages) {
+    cv::Mat left, right;
+    shiftedPair(120, 60, 7 * kSupersample, left, right);
+    for (int arrangement = 0; arrangement < 4; ++arrangement) {
+        Parameters parameters;
+        if (arrangement == 0) parameters.rightViewAggregation = false;
+        if (arrangement == 1) parameters.crossIterations = 0;
+        if (arrangement == 2) parameters.crossIterations = 2;
+        if (arrangement == 3) parameters.rightViewScanlineDirections = 8;
+        for (Method method : {Method::Paper, Method::AdCensus}) {
+            Matcher matcher(method, parameters);
+            const ErrorStats e = errors(matcher.compute(left, right, 16), 7.0, 5);
+            EXPECT_GT(e.goodShare, 0.98) << methodName(method) << ", arrangement " << arrangement;
+            EXPECT_LT(std::abs(e.mean), 0.05) << methodName(method) << ", arrangement " << arrangement;
+        }
+    }
+}
+
 TEST(CensusMatcher, SubpixelEstimatesAreNotPulledToIntegers) {
     // Pixel locking would pull a true 5.25 towards 5 and a true 5.75 towards 6. The volume
     // downstream averages sub-pixel disparities, so the mean error at every fraction must be small
