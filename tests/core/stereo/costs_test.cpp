@@ -21,14 +21,29 @@ Pair randomPair(int width, int height) {
     return p;
 }
 
+// What the paper's cost stage reads of a pair: both eyes' improved Census codes (band 2), the
+// gradient magnitudes, the left window mask at the given threshold.
+struct PaperInputs {
+    CensusImage censusLeft, censusRight;
+    CostInputs left, right;
+
+    PaperInputs(const Pair& p, const Parameters& parameters, double windowThreshold)
+        : left{p.bgrLeft, channelGradientMagnitudes(p.bgrLeft), censusWindowMask(p.greyLeft, windowThreshold),
+               &censusLeft},
+          right{p.bgrRight, channelGradientMagnitudes(p.bgrRight), cv::Mat(), &censusRight} {
+        improvedCensus(p.greyLeft, edgeCornerBits(p.greyLeft, parameters), 2, left.windowMask, censusLeft);
+        improvedCensus(p.greyRight, edgeCornerBits(p.greyRight, parameters), 2, cv::Mat(), censusRight);
+    }
+    PaperInputs(const PaperInputs&) = delete;  // the inputs point at this object's own codes
+    PaperInputs& operator=(const PaperInputs&) = delete;
+};
+
 TEST(Costs, PaperOptimisedEqualsReference) {
     const Pair p = randomPair(631, 479);
     const Parameters parameters;
-    CensusImage censusLeft, censusRight;
-    CostInputs left{p.bgrLeft, channelGradientMagnitudes(p.bgrLeft), censusWindowMask(p.greyLeft, 6.0), &censusLeft};
-    CostInputs right{p.bgrRight, channelGradientMagnitudes(p.bgrRight), cv::Mat(), &censusRight};
-    improvedCensus(p.greyLeft, edgeCornerBits(p.greyLeft, parameters), 2, left.windowMask, censusLeft);
-    improvedCensus(p.greyRight, edgeCornerBits(p.greyRight, parameters), 2, cv::Mat(), censusRight);
+    const PaperInputs inputs(p, parameters, 6.0);
+    const CostInputs& left = inputs.left;
+    const CostInputs& right = inputs.right;
     for (int disparities : {13, 24}) {
         CostVolume fast, plain;
         fast.create(631, 479, disparities);
@@ -49,11 +64,9 @@ TEST(Costs, RowsHandedOnAsTheyCompleteGiveTheSameAggregation) {
     cv::cvtColor(p.bgrLeft, p.greyLeft, cv::COLOR_BGR2GRAY);
     cv::cvtColor(p.bgrRight, p.greyRight, cv::COLOR_BGR2GRAY);
     const Parameters parameters;
-    CensusImage censusLeft, censusRight;
-    CostInputs left{p.bgrLeft, channelGradientMagnitudes(p.bgrLeft), censusWindowMask(p.greyLeft, 0.5), &censusLeft};
-    CostInputs right{p.bgrRight, channelGradientMagnitudes(p.bgrRight), cv::Mat(), &censusRight};
-    improvedCensus(p.greyLeft, edgeCornerBits(p.greyLeft, parameters), 2, left.windowMask, censusLeft);
-    improvedCensus(p.greyRight, edgeCornerBits(p.greyRight, parameters), 2, cv::Mat(), censusRight);
+    const PaperInputs inputs(p, parameters, 0.5);
+    const CostInputs& left = inputs.left;
+    const CostInputs& right = inputs.right;
     cv::Mat mirroredRight;
     cv::flip(p.bgrRight, mirroredRight, 1);
     CrossArms leftArms, rightArms;
@@ -92,11 +105,9 @@ TEST(Costs, PaperOptimisedEqualsReferenceWithUnsaturatedTerms) {
     Parameters parameters;
     parameters.lambdaAd = 400.0;
     parameters.lambdaGradient = 40.0;
-    CensusImage censusLeft, censusRight;
-    CostInputs left{p.bgrLeft, channelGradientMagnitudes(p.bgrLeft), censusWindowMask(p.greyLeft, 6.0), &censusLeft};
-    CostInputs right{p.bgrRight, channelGradientMagnitudes(p.bgrRight), cv::Mat(), &censusRight};
-    improvedCensus(p.greyLeft, edgeCornerBits(p.greyLeft, parameters), 2, left.windowMask, censusLeft);
-    improvedCensus(p.greyRight, edgeCornerBits(p.greyRight, parameters), 2, cv::Mat(), censusRight);
+    const PaperInputs inputs(p, parameters, 6.0);
+    const CostInputs& left = inputs.left;
+    const CostInputs& right = inputs.right;
     CostVolume fast, plain;
     fast.create(211, 97, 40);
     plain.create(211, 97, 40);
