@@ -25,6 +25,8 @@
 
 #include "core/common/error.hpp"
 #include "core/common/side_by_side.hpp"
+#include "core/stereo/disparity_io.hpp"
+#include "core/stereo/matcher.hpp"
 #include "core/synth/rasterizer.hpp"
 #include "core/synth/texture.hpp"
 
@@ -194,7 +196,10 @@ void addQuad(Mesh& mesh, const Pose& pose, const cv::Vec3d& origin, const cv::Ve
             // Texture coordinates: the two in-plane coordinates that vary on this face.
             const double ta = std::abs(edgeU[0]) + std::abs(edgeV[0]) > 0 ? local[0] : local[1];
             const double tb = std::abs(edgeU[1]) + std::abs(edgeV[1]) > 0 && ta != local[1] ? local[1] : local[2];
-            mesh.attributes.push_back({static_cast<float>(ta), static_cast<float>(tb), shade, 0.0f});
+            // The extra attribute: the height above the object plane, which for the ice block is
+            // its thickness (the truth maps' ice; the plate's is 0).
+            const float height = mesh.material == kMaterialIceBlock ? static_cast<float>(local[2]) : 0.0f;
+            mesh.attributes.push_back({static_cast<float>(ta), static_cast<float>(tb), shade, height});
         }
     }
     for (const auto& t : gridTriangles(divisions, divisions)) {
@@ -248,8 +253,41 @@ float shadeSample(int material, const cv::Vec4f& a, float skyY, std::uint32_t se
     }
 }
 
+// What the left eye sees of the geometry, per pixel: true disparity and ice thickness.
+struct EyeTruth {
+    cv::Mat disparity;
+    cv::Mat iceMm;
+};
+
+// Averages over each pixel's samples; stereo::kInvalidDisparity where any sample misses the object
+// (sky, or a pixel astride the outline, whose depth is mixed).
+EyeTruth truthFromSamples(const SampleBuffer& samples, int supersampling, cv::Size eye, double focalPx,
+                          double baselineMm) {
+    EyeTruth truth{cv::Mat(eye, CV_32F), cv::Mat(eye, CV_32F)};
+    const int s = supersampling;
+    for (int y = 0; y < eye.height; ++y)
+        for (int x = 0; x < eye.width; ++x) {
+            double inverseDepth = 0, ice = 0;
+            bool whole = true;
+            for (int j = 0; j < s && whole; ++j)
+                for (int i = 0; i < s; ++i) {
+                    const int sy = y * s + j, sx = x * s + i;
+                    if (samples.material.at<int>(sy, sx) < 0) {
+                        whole = false;
+                        break;
+                    }
+                    inverseDepth += samples.inverseDepth.at<float>(sy, sx);
+                    ice += samples.attributes.at<cv::Vec4f>(sy, sx)[3];
+                }
+            const float none = stereo::kInvalidDisparity;
+            truth.disparity.at<float>(y, x) = whole ? static_cast<float>(focalPx * baselineMm * inverseDepth / (s * s)) : none;
+            truth.iceMm.at<float>(y, x) = whole ? static_cast<float>(ice / (s * s)) : none;
+        }
+    return truth;
+}
+
 cv::Mat renderEye(const std::vector<Mesh>& meshes, const calib::StereoCalibration& calibration, double centreXMm,
-                  int supersampling, std::uint32_t seed) {
+                  int supersampling, std::uint32_t seed, double truthBaselineMm = 0, EyeTruth* truth = nullptr) {
     const cv::Size eye = calibration.imageSize;
     PinholeView view;
     view.fPx = calibration.M1.at<double>(0, 0) * supersampling;
@@ -274,6 +312,7 @@ cv::Mat renderEye(const std::vector<Mesh>& meshes, const calib::StereoCalibratio
     });
     cv::Mat pixels;
     cv::resize(fine, pixels, eye, 0, 0, cv::INTER_AREA);
+    if (truth) *truth = truthFromSamples(samples, supersampling, eye, calibration.M1.at<double>(0, 0), truthBaselineMm);
     return pixels;
 }
 
@@ -381,17 +420,21 @@ SyntheticScene renderScene(const SceneSpec& spec) {
     }
 
     const double baseline = spec.baselineMm;
-    auto capture = [&](const std::vector<Mesh>& meshes) {
-        const cv::Mat left = renderEye(meshes, scene.calibration, 0.0, spec.supersampling, spec.seed);
+    EyeTruth beforeTruth, afterTruth;
+    auto capture = [&](const std::vector<Mesh>& meshes, EyeTruth& truth) {
+        const cv::Mat left = renderEye(meshes, scene.calibration, 0.0, spec.supersampling, spec.seed, baseline, &truth);
         const cv::Mat right = renderEye(meshes, scene.calibration, baseline, spec.supersampling, spec.seed);
         return toCameraFrame(left, right, spec.noiseSigma, spec.jpegQuality, random);
     };
-    scene.before = capture(beforeMeshes);
-    scene.after = capture(afterMeshes);
+    scene.before = capture(beforeMeshes, beforeTruth);
+    scene.after = capture(afterMeshes, afterTruth);
+    scene.beforeDisparity = beforeTruth.disparity;
+    scene.afterDisparity = afterTruth.disparity;
+    scene.afterIceMm = afterTruth.iceMm;
     return scene;
 }
 
-void writeScene(const SyntheticScene& scene, const SceneSpec& spec, const std::filesystem::path& dir) {
+void writeScene(const SyntheticScene& scene, const SceneSpec& spec, const std::filesystem::path& dir, bool truthMaps) {
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);
     if (ec) {
@@ -418,6 +461,11 @@ void writeScene(const SyntheticScene& scene, const SceneSpec& spec, const std::f
             throw Error(kExitCantCreate, path.string() + ": cannot write");
         }
     };
+    if (truthMaps) {
+        stereo::writePfm(dir / "truth_disparity_before.pfm", scene.beforeDisparity);
+        stereo::writePfm(dir / "truth_disparity_after.pfm", scene.afterDisparity);
+        stereo::writePfm(dir / "truth_ice_mm.pfm", scene.afterIceMm);
+    }
     nlohmann::json polygon = nlohmann::json::array();
     for (const auto& p : scene.roi) polygon.push_back({p.x, p.y});
     writeJson("roi.json", {{"eye", "left"}, {"polygon", polygon}});

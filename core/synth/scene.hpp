@@ -48,6 +48,13 @@ struct SyntheticScene {
     double iceVolumeMm3 = 0.0;     // exact, from the rendered geometry
     double maxIceThicknessMm = 0.0;
     RigidMotion motion;
+    // Per left-eye pixel (CV_32F, stereo::kInvalidDisparity where the pixel is not wholly on the object): the true
+    // disparity of each capture (f·B/Z averaged over the pixel's samples; the nominal
+    // calibration's rectification is the identity) and the true ice thickness of the current one,
+    // along the object's normal, mm. For measuring the matcher and the chain stage by stage.
+    cv::Mat beforeDisparity;
+    cv::Mat afterDisparity;
+    cv::Mat afterIceMm;
 };
 
 // Renders both captures. Throws InvalidInput on a spec it cannot render (odd or tiny frame,
@@ -55,7 +62,9 @@ struct SyntheticScene {
 SyntheticScene renderScene(const SceneSpec& spec);
 
 // Writes calibration.yaml, before.png, after.png, roi.json and truth.json into dir (created if
-// needed). Throws Error(kExitCantCreate) when a file cannot be written.
-void writeScene(const SyntheticScene& scene, const SceneSpec& spec, const std::filesystem::path& dir);
+// needed); with truthMaps also truth_disparity_before.pfm, truth_disparity_after.pfm and
+// truth_ice_mm.pfm (left eye). Throws Error(kExitCantCreate) when a file cannot be written.
+void writeScene(const SyntheticScene& scene, const SceneSpec& spec, const std::filesystem::path& dir,
+                bool truthMaps = false);
 
 }  // namespace icewatch::synth

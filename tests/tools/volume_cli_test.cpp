@@ -73,5 +73,36 @@ TEST(VolumeCli, MissingDirectoryAndBadArguments) {
     EXPECT_EQ(r.status, kExitUsage);
 }
 
+TEST(VolumeCli, FloorNeedsTheTruthMaps) {
+    const auto dir = smallScene();
+    const auto r = test::runProgram({icewatchBin(), "floor", "--scene", dir.string(), "--json"});
+    EXPECT_EQ(r.status, kExitNoInput);
+    EXPECT_NE(r.err.find("truth_disparity_before.pfm"), std::string::npos) << r.err;
+}
+
+TEST(VolumeCli, FloorCarriesTheImagesNoiseToTheVolume) {
+    const auto dir = test::freshTempDir() / "blade";
+    ASSERT_EQ(test::runProgram({icewatchBin(), "synth", "--scene", "blade", "--ice-volume-mm3", "97609", "--mode",
+                                "1280x480", "--supersampling", "2", "--truth-maps", "--out", dir.string()})
+                  .status,
+              0);
+    for (const char* name : {"truth_disparity_before.pfm", "truth_disparity_after.pfm", "truth_ice_mm.pfm"}) {
+        EXPECT_TRUE(std::filesystem::exists(dir / name)) << name;
+    }
+    const auto r = test::runProgram({icewatchBin(), "floor", "--scene", dir.string(), "--box", "11", "--json"});
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto out = nlohmann::json::parse(r.out);
+    EXPECT_GT(out["before"]["boxes"].get<int>(), 10);
+    EXPECT_GT(out["before"]["box_sigma_px"].get<double>(), 0.0);
+    EXPECT_LT(std::abs(out["after"]["box_mean_px"].get<double>()), 0.05);
+    EXPECT_NEAR(out["truth_volume_mm3"].get<double>(), 97609.0, 1e-3);
+    // The iced pixels are a part of the object, so an oracle integrating only them sees less noise.
+    EXPECT_GT(out["iced_pixels"].get<int>(), 0);
+    EXPECT_LT(out["iced_pixels"].get<int>(), out["object_pixels"].get<int>());
+    EXPECT_GT(out["iced_volume_floor_mm3"].get<double>(), 0.0);
+    EXPECT_LT(out["iced_volume_floor_mm3"].get<double>(), out["volume_floor_mm3"].get<double>());
+    EXPECT_NEAR(out["volume_floor_percent"].get<double>(), 100.0 * out["volume_floor_mm3"].get<double>() / 97609.0, 1e-6);
+}
+
 }  // namespace
 }  // namespace icewatch

@@ -40,6 +40,7 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
         int jpegQuality = 90;
         int supersampling = 3;
         std::string out;
+        bool truthMaps = false;
     };
     auto o = std::make_shared<Options>();
     cmd->add_option("--scene", o->scene, "blade or block")->check(CLI::IsMember({"blade", "block"}));
@@ -50,6 +51,9 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
     cmd->add_option("--jpeg-quality", o->jpegQuality, "JPEG quality 1..100");
     cmd->add_option("--supersampling", o->supersampling, "samples per pixel and axis (anti-aliasing)");
     cmd->add_option("--out", o->out, "scene directory to write")->required();
+    cmd->add_flag("--truth-maps", o->truthMaps,
+                  "also write the left eye's true disparities (truth_disparity_{before,after}.pfm) and ice thickness "
+                  "(truth_ice_mm.pfm)");
     cmd->callback([&run, o] {
         run = [o] {
             synth::SceneSpec spec;
@@ -61,7 +65,7 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
             spec.jpegQuality = o->jpegQuality;
             spec.supersampling = o->supersampling;
             const synth::SyntheticScene scene = synth::renderScene(spec);
-            synth::writeScene(scene, spec, o->out);
+            synth::writeScene(scene, spec, o->out, o->truthMaps);
             std::cout << nlohmann::json{{"out", o->out}, {"scene", o->scene}, {"ice_volume_mm3", scene.iceVolumeMm3}}.dump()
                       << "\n";
             return 0;

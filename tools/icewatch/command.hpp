@@ -31,6 +31,7 @@ void addRecordCommand(CLI::App& app, const GlobalOptions& global, RunFunction& r
 void addAcquireCommand(CLI::App& app, const GlobalOptions& global, RunFunction& run);
 void addSynthCommand(CLI::App& app, const GlobalOptions& global, RunFunction& run);
 void addVolumeCommand(CLI::App& app, const GlobalOptions& global, RunFunction& run);
+void addFloorCommand(CLI::App& app, const GlobalOptions& global, RunFunction& run);
 void addMatchCommand(CLI::App& app, const GlobalOptions& global, RunFunction& run);
 void addEvalCommand(CLI::App& app, const GlobalOptions& global, RunFunction& run);
 void addBenchCommand(CLI::App& app, const GlobalOptions& global, RunFunction& run);

@@ -27,6 +27,7 @@ int main(int argc, char** argv) {
     cli::addAcquireCommand(app, global, run);
     cli::addSynthCommand(app, global, run);
     cli::addVolumeCommand(app, global, run);
+    cli::addFloorCommand(app, global, run);
     cli::addMatchCommand(app, global, run);
     cli::addEvalCommand(app, global, run);
     cli::addBenchCommand(app, global, run);

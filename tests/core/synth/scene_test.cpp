@@ -2,7 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <opencv2/imgproc.hpp>
+
 #include "core/common/error.hpp"
+#include "core/common/side_by_side.hpp"
+#include "core/synth/disparity_floor.hpp"
 
 namespace icewatch::synth {
 namespace {
@@ -46,6 +50,92 @@ TEST(SynthScene, RejectsImpossibleSpecs) {
     spec.iceVolumeMm3 = -1;
     EXPECT_THROW(renderScene(spec), InvalidInput);
     EXPECT_THROW(parseSceneKind("cone"), InvalidInput);
+}
+
+TEST(SynthScene, TruthMapsAreTheGeometryTheEyesSee) {
+    SceneSpec spec;
+    spec.iceVolumeMm3 = 197717;
+    spec.frameSize = {1280, 480};
+    spec.supersampling = 2;
+    spec.noiseSigma = 0;
+    spec.jpegQuality = 100;
+    const SyntheticScene scene = renderScene(spec);
+    const cv::Size eye{640, 480};
+    ASSERT_EQ(scene.beforeDisparity.size(), eye);
+    ASSERT_EQ(scene.afterIceMm.size(), eye);
+    // f·B/Z at about 0.85 m.
+    const double focal = scene.calibration.M1.at<double>(0, 0);
+    const double meanDisparity = cv::mean(scene.beforeDisparity, scene.beforeDisparity > 0)[0];
+    EXPECT_NEAR(meanDisparity, focal * 60.0 / 850.0, 0.05 * meanDisparity);
+    // The ice lies where the current capture sees the blade, and nowhere else.
+    double maxIce = 0;
+    cv::minMaxLoc(scene.afterIceMm, nullptr, &maxIce, nullptr, nullptr, scene.afterDisparity > 0);
+    EXPECT_NEAR(maxIce, scene.maxIceThicknessMm, 0.3 * scene.maxIceThicknessMm);
+    EXPECT_EQ(cv::countNonZero((scene.afterIceMm > 0) & (scene.afterDisparity < 0)), 0);
+    // Warped by its true disparity the right eye lines up with the left: on noiseless images the
+    // boxes' best shifts are zero to a few hundredths of a pixel, so the truth is what the images show.
+    for (const cv::Mat* frame : {&scene.before, &scene.after}) {
+        const StereoPair eyes = splitSideBySide(*frame);
+        cv::Mat left, right;
+        cv::cvtColor(eyes.left, left, cv::COLOR_BGR2GRAY);
+        cv::cvtColor(eyes.right, right, cv::COLOR_BGR2GRAY);
+        const DisparityFloor f = measureDisparityFloor(left, right, frame == &scene.before ? scene.beforeDisparity
+                                                                                           : scene.afterDisparity, 15);
+        ASSERT_GE(f.boxes, 10);
+        EXPECT_LT(std::abs(f.boxMeanPx), 0.02);
+        EXPECT_LT(f.boxSigmaPx, 0.05);
+    }
+}
+
+// A textured pair with a known whole-pixel shift and independent noise in each eye.
+struct ShiftedPair {
+    cv::Mat left, right, disparity;
+};
+
+ShiftedPair shiftedPair(double noiseSigma, int shift, unsigned seed) {
+    cv::RNG rng(seed);
+    cv::Mat texture(620, 620 + shift, CV_32F);
+    rng.fill(texture, cv::RNG::NORMAL, 128, 30);
+    cv::GaussianBlur(texture, texture, {0, 0}, 1.5);
+    ShiftedPair p;
+    p.left = texture(cv::Rect(0, 0, 620, 620)).clone();       // left x sees texture x
+    p.right = texture(cv::Rect(shift, 0, 620, 620)).clone();  // and so does right x - shift
+    cv::Mat noise(p.left.size(), CV_32F);
+    rng.fill(noise, cv::RNG::NORMAL, 0, noiseSigma);
+    p.left += noise;
+    rng.fill(noise, cv::RNG::NORMAL, 0, noiseSigma);
+    p.right += noise;
+    p.disparity = cv::Mat(p.left.size(), CV_32F, cv::Scalar(shift));
+    p.disparity.colRange(0, shift + 2).setTo(-1.0f);  // nothing to see in the right eye there
+    return p;
+}
+
+TEST(DisparityFloor, NoiselessPairHasNone) {
+    const ShiftedPair p = shiftedPair(0.0, 7, 1);
+    const DisparityFloor f = measureDisparityFloor(p.left, p.right, p.disparity, 31);
+    EXPECT_GE(f.boxes, 300);
+    EXPECT_LT(f.boxSigmaPx, 1e-4);
+    EXPECT_LT(f.residualSigma, 1e-3);
+}
+
+TEST(DisparityFloor, FollowsTheCramerRaoBoundOfWhiteNoise) {
+    // One shift from N pixels of squared gradient mean(g²), residual noise σ_e: σ = σ_e / sqrt(N·mean(g²)).
+    for (const double sigma : {1.0, 4.0}) {
+        const ShiftedPair p = shiftedPair(sigma, 7, 2);
+        const DisparityFloor f = measureDisparityFloor(p.left, p.right, p.disparity, 31);
+        const double bound = sigma * std::sqrt(2.0) / std::sqrt(31.0 * 31.0 * f.meanGradientSq);
+        EXPECT_NEAR(f.residualSigma, sigma * std::sqrt(2.0), 0.1 * sigma * std::sqrt(2.0));
+        EXPECT_NEAR(f.boxSigmaPx, bound, 0.25 * bound) << "sigma " << sigma;
+        EXPECT_NEAR(f.meanSigmaPx(31 * 31 * 100), f.boxSigmaPx / 10.0, 1e-12);
+    }
+}
+
+TEST(DisparityFloor, RejectsMismatchedInput) {
+    const cv::Mat grey(40, 40, CV_8U, cv::Scalar(1));
+    const cv::Mat disparity(40, 40, CV_32F, cv::Scalar(1));
+    EXPECT_THROW(measureDisparityFloor(grey, grey(cv::Rect(0, 0, 30, 40)), disparity), InvalidInput);
+    EXPECT_THROW(measureDisparityFloor(grey, grey, cv::Mat(40, 40, CV_8U)), InvalidInput);
+    EXPECT_THROW(measureDisparityFloor(grey, grey, disparity, 3), InvalidInput);
 }
 
 }  // namespace
