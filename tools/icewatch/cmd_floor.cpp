@@ -1,8 +1,13 @@
 // icewatch floor: how well a rendered scene's images can fix the ice volume at all. With the true
 // disparities of both captures (icewatch synth --truth-maps), the noise floor of the mean disparity
 // is measured in each capture (core/synth/disparity_floor.hpp) and carried to the volume: a shift δ
-// of every disparity of the object moves the volume by δ·Σ Z⁴/(f³·B) over its pixels. What is left
-// is the precision no matcher can beat on these images, set beside the scene's true volume.
+// of the disparities of a set of pixels moves the volume by δ·Σ Z⁴/(f³·B) over them.
+//   floor: over the pixels that truly carry ice, in both captures. An oracle that knew where the
+//     ice is and registered the two captures perfectly would still be this far off (1 σ): no
+//     matcher, registration or integration can do better on these images.
+//   whole object: over every pixel of the object, as integrating the thickness over the whole
+//     outline does when nothing (a registration on the unchanged surface) removes the noise the
+//     two captures have in common there.
 #include <cmath>
 #include <fstream>
 #include <iostream>
@@ -127,7 +132,7 @@ void addFloorCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
             const double wb = volumePerPixelOfDisparity(truthBefore, {}, f, b, nb);
             const double wa = volumePerPixelOfDisparity(truthAfter, {}, f, b, na);
             const double wholeMm3 = std::hypot(wb * fb.meanSigmaPx(nb), wa * fa.meanSigmaPx(na));
-            // An oracle that integrated only where the ice truly is (the same pixels in both).
+            // The floor: an oracle integrating only where the ice truly is (the same pixels in both).
             const cv::Mat iced = iceMm > o->iceThresholdMm;
             int ni = 0;
             const double wi = volumePerPixelOfDisparity(truthAfter, iced, f, b, ni);
@@ -139,17 +144,17 @@ void addFloorCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
                                      {"truth_volume_mm3", truthVolume},
                                      {"object_pixels", na},
                                      {"iced_pixels", ni},
-                                     {"volume_floor_mm3", wholeMm3},
-                                     {"volume_floor_percent", percent(wholeMm3)},
-                                     {"iced_volume_floor_mm3", icedMm3},
-                                     {"iced_volume_floor_percent", percent(icedMm3)}};
+                                     {"floor_mm3", icedMm3},
+                                     {"floor_percent", percent(icedMm3)},
+                                     {"whole_object_mm3", wholeMm3},
+                                     {"whole_object_percent", percent(wholeMm3)}};
             if (o->json) {
                 std::cout << out.dump() << "\n";
             } else {
                 std::cout << "disparity floor per " << o->boxPx << " px box: " << fb.boxSigmaPx << " / " << fa.boxSigmaPx
-                          << " px (before / after); volume floor (1 sigma) " << wholeMm3 << " mm3 = "
-                          << percent(wholeMm3) << " % over the object, " << icedMm3 << " mm3 = " << percent(icedMm3)
-                          << " % over the iced pixels alone\n";
+                          << " px (before / after); volume floor (1 sigma, over the iced pixels) " << icedMm3
+                          << " mm3 = " << percent(icedMm3) << " %; over the whole object " << wholeMm3 << " mm3 = "
+                          << percent(wholeMm3) << " %\n";
             }
             return 0;
         };
