@@ -7,6 +7,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "core/common/exit_codes.hpp"
+#include "core/stereo/disparity_io.hpp"
 #include "tests/support/run_program.hpp"
 #include "tests/support/test_paths.hpp"
 
@@ -78,6 +79,27 @@ TEST(VolumeCli, FloorNeedsTheTruthMaps) {
     const auto r = test::runProgram({icewatchBin(), "floor", "--scene", dir.string(), "--json"});
     EXPECT_EQ(r.status, kExitNoInput);
     EXPECT_NE(r.err.find("truth_disparity_before.pfm"), std::string::npos) << r.err;
+}
+
+TEST(VolumeCli, FloorNamesAMissingOrMalformedTruth) {
+    const auto dir = test::freshTempDir() / "scene";
+    ASSERT_EQ(test::runProgram({icewatchBin(), "synth", "--scene", "block", "--ice-volume-mm3", "417391", "--mode",
+                                "640x240", "--supersampling", "1", "--truth-maps", "--out", dir.string()})
+                  .status,
+              0);
+    std::filesystem::rename(dir / "truth.json", dir / "truth.json.away");
+    auto r = test::runProgram({icewatchBin(), "floor", "--scene", dir.string(), "--box", "9"});
+    EXPECT_EQ(r.status, kExitNoInput);
+    EXPECT_NE(r.err.find("truth.json"), std::string::npos) << r.err;
+    std::ofstream(dir / "truth.json") << "{\"ice_volume_mm3\": \"lots\"}";
+    r = test::runProgram({icewatchBin(), "floor", "--scene", dir.string(), "--box", "9"});
+    EXPECT_EQ(r.status, kExitDataErr);
+    EXPECT_NE(r.err.find("ice_volume_mm3"), std::string::npos) << r.err;
+    std::filesystem::rename(dir / "truth.json.away", dir / "truth.json");
+    stereo::writePfm(dir / "truth_ice_mm.pfm", cv::Mat(10, 10, CV_32F, cv::Scalar(0)));
+    r = test::runProgram({icewatchBin(), "floor", "--scene", dir.string(), "--box", "9"});
+    EXPECT_EQ(r.status, kExitDataErr);
+    EXPECT_NE(r.err.find("truth_ice_mm.pfm"), std::string::npos) << r.err;
 }
 
 TEST(VolumeCli, FloorCarriesTheImagesNoiseToTheVolume) {

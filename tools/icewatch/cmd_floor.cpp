@@ -109,6 +109,9 @@ void addFloorCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
             const cv::Mat iceMm = readTruthMap(dir / "truth_ice_mm.pfm", eye);
             double truthVolume = 0;
             {
+                if (!std::filesystem::exists(dir / "truth.json")) {
+                    throw Error(kExitNoInput, (dir / "truth.json").string() + ": missing");
+                }
                 std::ifstream in(dir / "truth.json");
                 const auto truth = nlohmann::json::parse(in, nullptr, false);
                 if (truth.is_discarded() || !truth.contains("ice_volume_mm3") || !truth["ice_volume_mm3"].is_number()) {
