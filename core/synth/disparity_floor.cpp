@@ -52,9 +52,9 @@ DisparityFloor measureDisparityFloor(const cv::Mat& greyLeft, const cv::Mat& gre
     // One surface: no step of more than half a pixel between neighbours (a window across a step
     // mixes two shifts).
     cv::Mat largest, smallest;
-    const cv::Mat cross3 = cv::getStructuringElement(cv::MORPH_RECT, {3, 3});
-    cv::dilate(trueDisparity, largest, cross3);
-    cv::erode(trueDisparity, smallest, cross3);
+    const cv::Mat square3 = cv::getStructuringElement(cv::MORPH_RECT, {3, 3});
+    cv::dilate(trueDisparity, largest, square3);
+    cv::erode(trueDisparity, smallest, square3);
     object &= (largest - smallest) < 0.5;
     // Three pixels in from every outline, hidden strip and step.
     cv::erode(object, object, cv::getStructuringElement(cv::MORPH_RECT, {7, 7}));
