@@ -1,6 +1,8 @@
 // icewatch synth and icewatch volume as a supervisor runs them: exit statuses and messages.
 #include <filesystem>
 #include <fstream>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -16,10 +18,19 @@ namespace {
 
 std::string icewatchBin() { return (test::binDir() / "icewatch").string(); }
 
-std::filesystem::path smallScene(const std::filesystem::path& base = test::freshTempDir()) {
+// icewatch synth with these scene arguments, written into dir.
+test::ProgramResult synth(const std::filesystem::path& dir, std::vector<std::string> arguments) {
+    arguments.insert(arguments.begin(), {icewatchBin(), "synth"});
+    arguments.insert(arguments.end(), {"--out", dir.string()});
+    return test::runProgram(arguments);
+}
+
+std::filesystem::path smallScene(const std::filesystem::path& base = test::freshTempDir(), bool truthMaps = false) {
     const auto dir = base / "scene";
-    const auto r = test::runProgram({icewatchBin(), "synth", "--scene", "block", "--ice-volume-mm3", "417391",
-                                     "--mode", "640x240", "--supersampling", "1", "--out", dir.string()});
+    std::vector<std::string> arguments{"--scene", "block", "--ice-volume-mm3", "417391", "--mode", "640x240",
+                                       "--supersampling", "1"};
+    if (truthMaps) arguments.push_back("--truth-maps");
+    const auto r = synth(dir, arguments);
     EXPECT_EQ(r.status, 0) << r.err;
     return dir;
 }
@@ -57,8 +68,7 @@ TEST(VolumeCli, CalibrationOfAnotherModeIsRefused) {
     const auto base = test::freshTempDir();
     const auto dir = smallScene(base);
     const auto other = base / "other";
-    ASSERT_EQ(test::runProgram({icewatchBin(), "synth", "--scene", "block", "--ice-volume-mm3", "1000", "--mode",
-                                "1280x480", "--supersampling", "1", "--out", other.string()})
+    ASSERT_EQ(synth(other, {"--scene", "block", "--ice-volume-mm3", "1000", "--mode", "1280x480", "--supersampling", "1"})
                   .status,
               0);
     std::filesystem::copy_file(other / "calibration.yaml", dir / "calibration.yaml",
@@ -82,11 +92,8 @@ TEST(VolumeCli, FloorNeedsTheTruthMaps) {
 }
 
 TEST(VolumeCli, FloorNamesAMissingOrMalformedTruth) {
-    const auto dir = test::freshTempDir() / "scene";
-    ASSERT_EQ(test::runProgram({icewatchBin(), "synth", "--scene", "block", "--ice-volume-mm3", "417391", "--mode",
-                                "640x240", "--supersampling", "1", "--truth-maps", "--out", dir.string()})
-                  .status,
-              0);
+    const auto dir = smallScene(test::freshTempDir(), true);
+    ASSERT_FALSE(HasFailure());
     std::filesystem::rename(dir / "truth.json", dir / "truth.json.away");
     auto r = test::runProgram({icewatchBin(), "floor", "--scene", dir.string(), "--box", "9"});
     EXPECT_EQ(r.status, kExitNoInput);
@@ -104,10 +111,9 @@ TEST(VolumeCli, FloorNamesAMissingOrMalformedTruth) {
 
 TEST(VolumeCli, FloorCarriesTheImagesNoiseToTheVolume) {
     const auto dir = test::freshTempDir() / "blade";
-    ASSERT_EQ(test::runProgram({icewatchBin(), "synth", "--scene", "blade", "--ice-volume-mm3", "97609", "--mode",
-                                "1280x480", "--supersampling", "2", "--truth-maps", "--out", dir.string()})
-                  .status,
-              0);
+    const auto rendered = synth(dir, {"--scene", "blade", "--ice-volume-mm3", "97609", "--mode", "1280x480",
+                                      "--supersampling", "2", "--truth-maps"});
+    ASSERT_EQ(rendered.status, 0) << rendered.err;
     for (const char* name : {"truth_disparity_before.pfm", "truth_disparity_after.pfm", "truth_ice_mm.pfm"}) {
         EXPECT_TRUE(std::filesystem::exists(dir / name)) << name;
     }
