@@ -9,6 +9,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "core/common/huge_pages.hpp"
 #include "core/stereo/parameters.hpp"
 
 namespace icewatch::stereo::detail {
@@ -33,7 +34,7 @@ struct CostVolume {
     int height = 0;
     int disparities = 0;
     int stride = 0;
-    std::vector<std::uint16_t> data;
+    std::vector<std::uint16_t, HugePageAllocator<std::uint16_t>> data;
 
     // Allocates only when the size changes (one allocation per image size).
     void create(int w, int h, int d);
