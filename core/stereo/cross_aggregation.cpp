@@ -98,38 +98,38 @@ void restorePadding(CostVolume& volume) {
 
 namespace {
 
-constexpr int kLanes8 = cv::v_uint8x16::nlanes;
+constexpr int kLanes8 = cv::v_uint8::nlanes;  // the widest vector: 32 with AVX2, 16 with SSE or NEON
 // Columns of border around the colour planes: arms are at most 126 long (the config caps crossL1
 // at 127), so whole-vector loads along a row never leave the planes.
 constexpr int kPlaneBorder = 128;
 
-// Largest channel difference of 16 pixels, one vector per colour plane.
-cv::v_uint8x16 maxAbsDiff3(const cv::v_uint8x16 a[3], const cv::v_uint8x16 b[3]) {
+// Largest channel difference of a vector of pixels, one vector per colour plane.
+cv::v_uint8 maxAbsDiff3(const cv::v_uint8 a[3], const cv::v_uint8 b[3]) {
     return cv::v_max(cv::v_absdiff(a[0], b[0]), cv::v_max(cv::v_absdiff(a[1], b[1]), cv::v_absdiff(a[2], b[2])));
 }
 
-// Arm lengths of 16 neighbouring pixels of one row at once, in one direction: `step` elements
+// Arm lengths of a vector of neighbouring pixels of one row at once, in one direction: `step` elements
 // between neighbours along the arm (a row of the planes or 1), `room` per lane the pixels until
 // the image border (saturated at 255). A lane stops growing at its first failed rule; the loop
 // stops when every lane has.
-cv::v_uint8x16 armLengths16(const std::uint8_t* const centre[3], std::ptrdiff_t step, const cv::v_uint8x16& room,
-                            int maxRoom, const Parameters& p) {
-    cv::v_uint8x16 c[3], previous[3];
-    for (int ch = 0; ch < 3; ++ch) c[ch] = previous[ch] = cv::v_load(centre[ch]);
-    const cv::v_uint8x16 tau1 = cv::v_setall_u8(static_cast<std::uint8_t>(p.crossTau1));
-    const cv::v_uint8x16 tau2 = cv::v_setall_u8(static_cast<std::uint8_t>(p.crossTau2));
-    cv::v_uint8x16 alive = cv::v_setall_u8(0xFF), length = cv::v_setall_u8(0);
+cv::v_uint8 armLengths(const std::uint8_t* const centre[3], std::ptrdiff_t step, const cv::v_uint8& room, int maxRoom,
+                       const Parameters& p) {
+    cv::v_uint8 c[3], previous[3];
+    for (int ch = 0; ch < 3; ++ch) c[ch] = previous[ch] = cv::vx_load(centre[ch]);
+    const cv::v_uint8 tau1 = cv::vx_setall_u8(static_cast<std::uint8_t>(p.crossTau1));
+    const cv::v_uint8 tau2 = cv::vx_setall_u8(static_cast<std::uint8_t>(p.crossTau2));
+    cv::v_uint8 alive = cv::vx_setall_u8(0xFF), length = cv::vx_setzero_u8();
     const int limit = std::min(p.crossL1 - 1, maxRoom);
     for (int k = 1; k <= limit; ++k) {
-        cv::v_uint8x16 q[3];
-        for (int ch = 0; ch < 3; ++ch) q[ch] = cv::v_load(centre[ch] + k * step);
-        const cv::v_uint8x16 toCentre = maxAbsDiff3(q, c);
-        cv::v_uint8x16 ok = (toCentre < tau1) & (maxAbsDiff3(q, previous) < tau1) &
-                            (cv::v_setall_u8(static_cast<std::uint8_t>(k)) <= room);
+        cv::v_uint8 q[3];
+        for (int ch = 0; ch < 3; ++ch) q[ch] = cv::vx_load(centre[ch] + k * step);
+        const cv::v_uint8 toCentre = maxAbsDiff3(q, c);
+        cv::v_uint8 ok = (toCentre < tau1) & (maxAbsDiff3(q, previous) < tau1) &
+                         (cv::vx_setall_u8(static_cast<std::uint8_t>(k)) <= room);
         if (k > p.crossL2) ok &= toCentre < tau2;
         alive &= ok;
         if (!cv::v_check_any(alive)) break;
-        length += alive & cv::v_setall_u8(1);  // one more pixel where still alive
+        length += alive & cv::vx_setall_u8(1);  // one more pixel where still alive
         for (int ch = 0; ch < 3; ++ch) previous[ch] = q[ch];
     }
     return length;
@@ -141,7 +141,7 @@ void computeCrossArms(const cv::Mat& bgr, const Parameters& parameters, CrossArm
     CV_Assert(bgr.type() == CV_8UC3);
     CV_Assert(parameters.crossL1 <= kPlaneBorder - 1);
     for (cv::Mat* m : {&arms.left, &arms.right, &arms.up, &arms.down}) m->create(bgr.size(), CV_8UC1);
-    // Planar colour with a border: the vector kernel compares 16 pixels per channel at a time.
+    // Planar colour with a border: the vector kernel compares a vector of pixels per channel at a time.
     cv::Mat split[3];
     cv::split(bgr, split);
     for (int ch = 0; ch < 3; ++ch) {
@@ -160,14 +160,14 @@ void computeCrossArms(const cv::Mat& bgr, const Parameters& parameters, CrossArm
                     roomLeft[i] = static_cast<std::uint8_t>(std::min(x + i, 255));
                     roomRight[i] = static_cast<std::uint8_t>(std::min(width - 1 - x - i, 255));
                 }
-                const cv::v_uint8x16 all = cv::v_setall_u8(255);
+                const cv::v_uint8 all = cv::vx_setall_u8(255);
                 cv::v_store(arms.left.ptr<std::uint8_t>(y) + x,
-                            armLengths16(centre, -1, cv::v_load(roomLeft), x + kLanes8 - 1, parameters));
+                            armLengths(centre, -1, cv::vx_load(roomLeft), x + kLanes8 - 1, parameters));
                 cv::v_store(arms.right.ptr<std::uint8_t>(y) + x,
-                            armLengths16(centre, 1, cv::v_load(roomRight), width - 1 - x, parameters));
-                cv::v_store(arms.up.ptr<std::uint8_t>(y) + x, armLengths16(centre, -rowStep, all, y, parameters));
+                            armLengths(centre, 1, cv::vx_load(roomRight), width - 1 - x, parameters));
+                cv::v_store(arms.up.ptr<std::uint8_t>(y) + x, armLengths(centre, -rowStep, all, y, parameters));
                 cv::v_store(arms.down.ptr<std::uint8_t>(y) + x,
-                            armLengths16(centre, rowStep, all, height - 1 - y, parameters));
+                            armLengths(centre, rowStep, all, height - 1 - y, parameters));
             }
             // The last columns, fewer than a vector: one pixel at a time.
             const std::uint8_t* row = bgr.ptr<std::uint8_t>(y);
