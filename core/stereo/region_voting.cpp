@@ -14,6 +14,12 @@
 // Counts are 16-bit and may wrap along the column: a difference of wrapped prefix sums is exact
 // as long as the region's true count fits, and a region holds at most 255 x 255 pixels (arms are
 // at most 127 long).
+//
+// After the first pass only the outliers whose region gained a reliable pixel in the pass before
+// vote again. The others would count the same histogram as last time, which lost (a winner is no
+// longer an outlier), and lose again: skipping them changes no result. Later passes fill few
+// pixels, so most of their outliers are skipped; whether a region gained one is a sum of row
+// segments of a per-row prefix count of the pixels that became reliable.
 #include <algorithm>
 
 #include "core/common/simd.hpp"
@@ -31,9 +37,33 @@ int regionVoting(const CrossArms& arms, const Parameters& parameters, cv::Mat& d
     const int bins = static_cast<int>(maxValue) + 1;
     constexpr int kLanes = cv::v_uint16::nlanes;
     const int pitch = (bins + kLanes - 1) / kLanes * kLanes;  // one prefix row, whole vectors
+    cv::Mat previousLabels;  // what the last pass read; empty before the first pass
+    cv::Mat gained(height, width + 1, CV_32SC1);  // per row: prefix count of pixels that became reliable
     return iterateVoting(parameters.votingIterations, disparity, labels, [&](const cv::Mat& before,
                                                                              const cv::Mat& labelsBefore,
                                                                              std::vector<int>& filledPerStripe) {
+        const bool everyOutlierVotes = previousLabels.empty();
+        if (!everyOutlierVotes) {
+            forEachStripe(height, [&](int, int begin, int end) {
+                for (int y = begin; y < end; ++y) {
+                    const auto* now = labelsBefore.ptr<std::uint8_t>(y);
+                    const auto* then = previousLabels.ptr<std::uint8_t>(y);
+                    auto* count = gained.ptr<std::int32_t>(y);
+                    count[0] = 0;
+                    for (int x = 0; x < width; ++x) count[x + 1] = count[x] + (now[x] == kReliable && then[x] != kReliable);
+                }
+            });
+        }
+        // Whether the region of outlier (x, y) gained a reliable pixel in the last pass.
+        auto regionGained = [&](int x, int y) {
+            for (int yy = y - arms.up.at<std::uint8_t>(y, x); yy <= y + arms.down.at<std::uint8_t>(y, x); ++yy) {
+                const auto* count = gained.ptr<std::int32_t>(yy);
+                if (count[x + arms.right.at<std::uint8_t>(yy, x) + 1] != count[x - arms.left.at<std::uint8_t>(yy, x)]) {
+                    return true;
+                }
+            }
+            return false;
+        };
         forEachStripe(width, [&](int stripe, int begin, int end) {
             std::vector<std::uint16_t> prefix(static_cast<std::size_t>(height + 1) * pitch);
             std::vector<int> reliablePrefix(static_cast<std::size_t>(height + 1));
@@ -74,6 +104,7 @@ int regionVoting(const CrossArms& arms, const Parameters& parameters, cv::Mat& d
                 long long directCost = 0;
                 for (int y = 0; y < height; ++y) {
                     if (labelsBefore.at<std::uint8_t>(y, x) == kReliable) continue;
+                    if (!everyOutlierVotes && !regionGained(x, y)) continue;
                     outliers.push_back(y);
                     const int up = arms.up.at<std::uint8_t>(y, x), down = arms.down.at<std::uint8_t>(y, x);
                     first = std::min(first, y - up);
@@ -119,6 +150,7 @@ int regionVoting(const CrossArms& arms, const Parameters& parameters, cv::Mat& d
                 }
             }
         });
+        previousLabels = labelsBefore;  // a copy of its own: iterateVoting clones before every pass
     });
 }
 
