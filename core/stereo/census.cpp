@@ -28,15 +28,14 @@ void CensusImage::create(int w, int h, int wordsPerPixel) {
     data.resize(static_cast<std::size_t>(w) * h * wordsPerPixel);
 }
 
-namespace {
-
-// 3x3 Sobel derivatives of an 8-bit image (any channel count), exact in 16 bits. Sobel / 8 is the
-// slope in grey levels per pixel on a ramp, with the usual 3x3 smoothing. Integer derivatives are
-// several times faster than float ones, and every test on them below is exact.
+// Integer derivatives are several times faster than float ones, and every test on them below is
+// exact.
 void sobel16(const cv::Mat& image, cv::Mat& dx, cv::Mat& dy) {
     cv::Sobel(image, dx, CV_16S, 1, 0, 3, 1.0, 0.0, cv::BORDER_REPLICATE);
     cv::Sobel(image, dy, CV_16S, 0, 1, 3, 1.0, 0.0, cv::BORDER_REPLICATE);
 }
+
+namespace {
 
 struct Thresholds {
     std::uint8_t hi;  // brighter than ref + alpha  <=>  I > hi
@@ -149,54 +148,6 @@ cv::Mat channelGradientMagnitudes(const cv::Mat& bgr) {
         }
     }
     return magnitude8;
-}
-
-cv::Mat edgeCornerBits(const cv::Mat& grey, const Parameters& parameters) {
-    CV_Assert(grey.type() == CV_8UC1);
-    // One pair of derivatives serves both detectors: Canny's own (3x3 Sobel, replicated border)
-    // and Harris' (the same Sobel; its scale does not matter, the threshold is relative to the
-    // largest response).
-    cv::Mat dx, dy;
-    sobel16(grey, dx, dy);
-    cv::Mat edges;
-    cv::Canny(dx, dy, edges, parameters.cannyLowThreshold, parameters.cannyHighThreshold, true);
-    // Harris, k = 0.04 over 3x3 blocks: the products of the derivatives are integers, and so
-    // are their 3x3 sums (below 2^24, exact in float); the response is taken in double.
-    cv::Mat products(grey.size(), CV_32FC3);
-    for (int y = 0; y < grey.rows; ++y) {
-        const auto* gx = dx.ptr<std::int16_t>(y);
-        const auto* gy = dy.ptr<std::int16_t>(y);
-        auto* out = products.ptr<float>(y);
-        for (int x = 0; x < grey.cols; ++x) {
-            out[3 * x] = static_cast<float>(gx[x] * gx[x]);
-            out[3 * x + 1] = static_cast<float>(gx[x] * gy[x]);
-            out[3 * x + 2] = static_cast<float>(gy[x] * gy[x]);
-        }
-    }
-    cv::boxFilter(products, products, CV_32F, {3, 3}, {-1, -1}, false, cv::BORDER_REPLICATE);
-    cv::Mat response(grey.size(), CV_64FC1);
-    double maxResponse = 0.0;
-    for (int y = 0; y < grey.rows; ++y) {
-        const auto* m = products.ptr<float>(y);
-        auto* out = response.ptr<double>(y);
-        for (int x = 0; x < grey.cols; ++x) {
-            const double a = m[3 * x], b = m[3 * x + 1], c = m[3 * x + 2];
-            out[x] = a * c - b * b - 0.04 * (a + c) * (a + c);
-            maxResponse = std::max(maxResponse, out[x]);
-        }
-    }
-    const double cornerLimit = parameters.harrisThreshold * maxResponse;
-    cv::Mat bits(grey.size(), CV_8UC1);
-    for (int y = 0; y < grey.rows; ++y) {
-        const auto* e = edges.ptr<std::uint8_t>(y);
-        const auto* r = response.ptr<double>(y);
-        auto* out = bits.ptr<std::uint8_t>(y);
-        for (int x = 0; x < grey.cols; ++x) {
-            const bool corner = maxResponse > 0.0 && r[x] > cornerLimit;
-            out[x] = static_cast<std::uint8_t>((e[x] != 0 ? 2 : 0) + (corner ? 1 : 0));
-        }
-    }
-    return bits;
 }
 
 namespace {

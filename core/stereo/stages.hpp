@@ -111,14 +111,16 @@ inline constexpr int kCensus7Words = 3;
 inline constexpr int kCensus9Offset = 3;
 inline constexpr int kCensus9Words = 5;
 
+// 3x3 Sobel derivatives of an 8-bit image (any channel count, replicated border), exact in 16
+// bits, CV_16S. Sobel / 8 is the slope in grey levels per pixel on a ramp, with the usual 3x3
+// smoothing.
+void sobel16(const cv::Mat& image, cv::Mat& dx, cv::Mat& dy);
 // 1 where the 7x7 window applies (gradient magnitude > threshold), 0 for 9x9. CV_8UC1.
 cv::Mat censusWindowMask(const cv::Mat& grey, double gradientThreshold);
 // Per-pixel gradient magnitude of each colour channel, 3x3 Sobel / 8 in grey levels per pixel,
 // times kGradientSteps, rounded and saturated, CV_8UC3.
 inline constexpr int kGradientSteps = 4;
 cv::Mat channelGradientMagnitudes(const cv::Mat& bgr);
-// bit 1 = Canny edge, bit 0 = Harris corner. CV_8UC1.
-cv::Mat edgeCornerBits(const cv::Mat& grey, const Parameters& parameters);
 // windowMask: which code each pixel needs (1 = 7x7, 0 = 9x9); empty computes both codes (the
 // right image, whose pixels are compared with left pixels of either window).
 void improvedCensus(const cv::Mat& grey, const cv::Mat& edgeCorner, int alpha, const cv::Mat& windowMask,
@@ -127,6 +129,14 @@ void improvedCensusReference(const cv::Mat& grey, const cv::Mat& edgeCorner, int
                              const cv::Mat& windowMask, CensusImage& out);
 // Mei's Census: 9x7 window on grey, 1 bit per neighbour (neighbour < centre), one word.
 void meiCensus(const cv::Mat& grey, CensusImage& out);
+
+// ---- edge_corner_bits.cpp ---------------------------------------------------------------------
+// bit 1 = Canny edge, bit 0 = Harris corner (response > harrisThreshold x the largest), from the
+// 3x3 Sobel derivatives of grey (CV_8UC1). CV_8UC1.
+cv::Mat edgeCornerBits(const cv::Mat& grey, const Parameters& parameters);
+// Canny's edges from 3x3 Sobel derivatives (CV_16SC1 each) with the L2 gradient norm: the map
+// cv::Canny(dx, dy, edges, low, high, true) gives, 255 on edges and 0 elsewhere, CV_8UC1.
+void cannyEdges(const cv::Mat& dx, const cv::Mat& dy, double low, double high, cv::Mat& edges);
 
 // ---- costs.cpp --------------------------------------------------------------------------------
 // What the cost stage needs of one image.

@@ -1,3 +1,7 @@
+#include <initializer_list>
+#include <utility>
+#include <vector>
+
 #include <gtest/gtest.h>
 
 #include <opencv2/imgcodecs.hpp>
@@ -41,18 +45,50 @@ cv::Mat edgeCornerBitsByDefinition(const cv::Mat& grey, const Parameters& parame
     return bits;
 }
 
-int nibbleAt(const std::uint64_t* words, int k) { return static_cast<int>((words[k >> 4] >> (4 * (k & 15))) & 0xF); }
-
-TEST(EdgeCornerBits, EqualTheDefinition) {
+// Grey test images: each size as random noise and blurred by sigma `blur`, then the left image of
+// a Middlebury scene.
+std::vector<cv::Mat> greyImages(std::initializer_list<std::pair<int, int>> sizes, int seed, double blur,
+                                const char* scene) {
     std::vector<cv::Mat> images;
-    for (const auto& [width, height] : {std::pair{631, 479}, std::pair{17, 9}, std::pair{1, 5}}) {
-        cv::Mat grey = test::randomImage(width, height, CV_8UC1, 21), smooth;
-        cv::GaussianBlur(grey, smooth, cv::Size(0, 0), 1.5);
+    for (const auto& [width, height] : sizes) {
+        cv::Mat grey = test::randomImage(width, height, CV_8UC1, seed), smooth;
+        cv::GaussianBlur(grey, smooth, cv::Size(0, 0), blur);
         images.push_back(grey);
         images.push_back(smooth);
     }
-    images.push_back(cv::imread((icewatch::test::sharedData() / "middlebury" / "cones" / "left.png").string(),
-                                cv::IMREAD_GRAYSCALE));
+    images.push_back(
+        cv::imread((icewatch::test::sharedData() / "middlebury" / scene / "left.png").string(), cv::IMREAD_GRAYSCALE));
+    return images;
+}
+
+TEST(CannyEdges, EqualOpenCVsCanny) {
+    // Random and smooth images (gradients in every direction, long weak edges for the hysteresis
+    // to follow), a real one, sizes that leave a scalar tail, thresholds swapped, zero and huge.
+    const std::vector<cv::Mat> images = greyImages({{631, 479}, {37, 23}, {3, 1}, {1, 4}}, 5, 2.0, "teddy");
+    ASSERT_FALSE(images.back().empty());
+    for (const cv::Mat& grey : images) {
+        cv::Mat dx, dy;
+        sobel16(grey, dx, dy);
+        for (const auto& [low, high] : {std::pair{30.0, 100.0}, std::pair{100.0, 30.0}, std::pair{0.0, 10.0},
+                                         std::pair{5.0, 5.0}, std::pair{40000.0, 50000.0}}) {
+            cv::Mat fast, plain;
+            cannyEdges(dx, dy, low, high, fast);
+            cv::Canny(dx, dy, plain, low, high, true);
+            EXPECT_EQ(cv::countNonZero(fast != plain), 0) << grey.cols << "x" << grey.rows << " " << low << "/" << high;
+        }
+    }
+    // The smooth large image has weak edges that only the hysteresis keeps.
+    cv::Mat dx, dy, strongOnly, both;
+    sobel16(images[1], dx, dy);
+    cannyEdges(dx, dy, 60.0, 60.0, strongOnly);
+    cannyEdges(dx, dy, 10.0, 60.0, both);
+    EXPECT_GT(cv::countNonZero(both), cv::countNonZero(strongOnly));
+}
+
+int nibbleAt(const std::uint64_t* words, int k) { return static_cast<int>((words[k >> 4] >> (4 * (k & 15))) & 0xF); }
+
+TEST(EdgeCornerBits, EqualTheDefinition) {
+    const std::vector<cv::Mat> images = greyImages({{631, 479}, {17, 9}, {1, 5}}, 21, 1.5, "cones");
     ASSERT_FALSE(images.back().empty());
     for (const double threshold : {0.001, 0.05}) {
         Parameters parameters;
