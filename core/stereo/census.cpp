@@ -92,7 +92,7 @@ constexpr int kPad = 4;
 
 cv::Mat censusWindowMask(const cv::Mat& grey, double gradientThreshold) {
     CV_Assert(grey.type() == CV_8UC1);
-    cv::Mat dx, dy;
+    thread_local cv::Mat dx, dy;  // scratch kept per thread: fresh buffers this size are mostly page faults
     sobel16(grey, dx, dy);
     // |∇I| / 8 > T  <=>  dx² + dy² > (8T)², compared exactly on the integer squares.
     const double limit = 64.0 * gradientThreshold * std::abs(gradientThreshold);
@@ -111,7 +111,7 @@ cv::Mat censusWindowMask(const cv::Mat& grey, double gradientThreshold) {
 
 cv::Mat channelGradientMagnitudes(const cv::Mat& bgr) {
     CV_Assert(bgr.depth() == CV_8U);
-    cv::Mat dx, dy;
+    thread_local cv::Mat dx, dy;  // scratch kept per thread, as above
     sobel16(bgr, dx, dy);
     // Quarter grey levels: the gradient term is decisive and needs the resolution; gradients above
     // 63.75 grey levels per pixel (strong edges, where Census and AD decide anyway) saturate.

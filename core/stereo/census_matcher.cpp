@@ -142,10 +142,9 @@ cv::Mat CensusMatcher::compute(const cv::Mat& left, const cv::Mat& right, int ma
     //    Mei's final 3x3 median.
     cv::Mat refined = subpixelRefine(disparity, scratch_);
     if (p.subpixelIntensityRefinement) {
-        cv::Mat floatLeft, floatRight;
-        greyLeft.convertTo(floatLeft, CV_32F);
-        greyRight.convertTo(floatRight, CV_32F);
-        refineSubpixelByIntensity(floatLeft, floatRight, p.subpixelWindowRadius, p.subpixelIterations,
+        greyLeft.convertTo(floatLeft_, CV_32F);
+        greyRight.convertTo(floatRight_, CV_32F);
+        refineSubpixelByIntensity(floatLeft_, floatRight_, p.subpixelWindowRadius, p.subpixelIterations,
                                   static_cast<float>(p.subpixelMaxChange), refined);
     }
     if (p.medianFilter) cv::medianBlur(refined, refined, 3);

@@ -26,6 +26,7 @@ private:
     detail::CrossArms arms_;
     detail::CostVolume rightCosts_;  // the right view's own pass (Parameters::rightViewAggregation)
     detail::CrossArms rightArms_;
+    cv::Mat floatLeft_, floatRight_;  // grey eyes in float for the intensity refinement
 };
 
 }  // namespace icewatch::stereo
