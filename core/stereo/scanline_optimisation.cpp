@@ -17,6 +17,7 @@
 // 0xFFFF and never win a minimum.
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 #include "core/common/simd.hpp"
 
@@ -72,15 +73,18 @@ std::uint16_t stepAndAccumulate(const std::uint16_t* cost, const std::uint16_t* 
 }
 
 // The three directions of a vertical pass at one pixel in one go: the same step as above for each
-// (previous[i] may be null: that direction starts its line here, L = C), with the sum read and
-// written once instead of three times; the sum starts here (the vertical passes run first).
-// minima[i] is min_t L(p - r_i, t) on entry and the new minimum on return.
+// (previous[i] may be null, unless kAllPrevious: that direction starts its line here, L = C),
+// with the sum read and written once instead of three times; the sum starts here (the vertical
+// passes run first). minima[i] is min_t L(p - r_i, t) on entry and the new minimum on return.
+// kAllPrevious (every pixel but the first row and the two end columns) leaves the null tests out
+// of the loop.
+template <bool kAllPrevious>
 void stepThreeAndStartSum(const std::uint16_t* cost, const std::uint16_t* const previous[3],
                             std::uint16_t minima[3], int stride, const std::uint16_t p1[3],
                             const std::uint16_t p2[3], std::uint16_t* const out[3], std::uint16_t* sum) {
     cv::v_uint16 vMin[3], vJump[3], vP1[3], newMin[3];
     for (int i = 0; i < 3; ++i) {
-        vMin[i] = cv::vx_setall_u16(previous[i] ? minima[i] : 0);
+        vMin[i] = cv::vx_setall_u16(kAllPrevious || previous[i] ? minima[i] : 0);
         vJump[i] = vMin[i] + cv::vx_setall_u16(p2[i]);  // saturating
         vP1[i] = cv::vx_setall_u16(p1[i]);
         newMin[i] = cv::vx_setall_u16(0xFFFF);
@@ -90,10 +94,11 @@ void stepThreeAndStartSum(const std::uint16_t* cost, const std::uint16_t* const 
         cv::v_uint16 total = cv::vx_setzero_u16();
         for (int i = 0; i < 3; ++i) {
             cv::v_uint16 l = c;
-            if (previous[i]) {
+            if (kAllPrevious || previous[i]) {
                 const std::uint16_t* prev = previous[i];
+                // min(L(d-1) + P1, L(d+1) + P1) as min(L(d-1), L(d+1)) + P1: the same, one add fewer.
                 cv::v_uint16 m = cv::v_min(cv::vx_load(prev + d),
-                                           cv::v_min(cv::vx_load(prev + d - 1) + vP1[i], cv::vx_load(prev + d + 1) + vP1[i]));
+                                           cv::v_min(cv::vx_load(prev + d - 1), cv::vx_load(prev + d + 1)) + vP1[i]);
                 m = cv::v_min(m, vJump[i]);
                 l = c + (m - vMin[i]);
             }
@@ -315,24 +320,35 @@ void verticalPass(const CostVolume& costs, const PenaltyCases& cases, const Scan
         previousMin[i] = minima.data() + (2 * i) * static_cast<std::size_t>(width);
         currentMin[i] = minima.data() + (2 * i + 1) * static_cast<std::size_t>(width);
     }
+    const auto pitch = static_cast<std::size_t>(stride + kLanes);  // of the LineBuffers
     for (int step = 0; step < height; ++step) {
         const int y = dy > 0 ? step : height - 1 - step;
-        for (int x = 0; x < width; ++x) {
+        const std::uint8_t* caseRow[3];
+        for (int i = 0; i < 3; ++i) caseRow[i] = cases.row(caseIndex[i], y);
+        auto pixel = [&](auto allPrevious, int x) {
             const std::uint16_t* from[3];
             std::uint16_t* out[3];
             std::uint16_t minimum[3], p1[3], p2[3];
             for (int i = 0; i < 3; ++i) {
                 const int px = x - directions[i].dx;
-                out[i] = current[i] + static_cast<std::size_t>(x) * (stride + kLanes);
-                const bool starts = step == 0 || px < 0 || px >= width;
-                from[i] = starts ? nullptr : previous[i] + static_cast<std::size_t>(px) * (stride + kLanes);
+                out[i] = current[i] + static_cast<std::size_t>(x) * pitch;
+                const bool starts = !allPrevious && (step == 0 || px < 0 || px >= width);
+                from[i] = starts ? nullptr : previous[i] + static_cast<std::size_t>(px) * pitch;
                 minimum[i] = starts ? 0 : previousMin[i][px];
-                const int c = cases.row(caseIndex[i], y)[x];
+                const int c = caseRow[i][x];
                 p1[i] = penalties.p1[c];
                 p2[i] = penalties.p2[c];
             }
-            stepThreeAndStartSum(costs.at(x, y), from, minimum, stride, p1, p2, out, sum.at(x, y));
+            stepThreeAndStartSum<decltype(allPrevious)::value>(costs.at(x, y), from, minimum, stride, p1, p2, out,
+                                                               sum.at(x, y));
             for (int i = 0; i < 3; ++i) currentMin[i][x] = minimum[i];
+        };
+        if (step == 0 || width < 3) {
+            for (int x = 0; x < width; ++x) pixel(std::false_type{}, x);
+        } else {
+            pixel(std::false_type{}, 0);
+            for (int x = 1; x < width - 1; ++x) pixel(std::true_type{}, x);
+            pixel(std::false_type{}, width - 1);
         }
         for (int i = 0; i < 3; ++i) {
             std::swap(previous[i], current[i]);
