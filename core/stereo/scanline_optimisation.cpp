@@ -60,7 +60,7 @@ std::uint16_t stepAndAccumulate(const std::uint16_t* cost, const std::uint16_t* 
         const cv::v_uint16 current = cv::vx_load(previous + d);
         const cv::v_uint16 lower = cv::vx_load(previous + d - 1);  // L(d-1)
         const cv::v_uint16 upper = cv::vx_load(previous + d + 1);  // L(d+1)
-        cv::v_uint16 m = cv::v_min(current, cv::v_min(lower + vP1, upper + vP1));
+        cv::v_uint16 m = cv::v_min(current, cv::v_min(lower, upper) + vP1);  // = min(lower + P1, upper + P1)
         m = cv::v_min(m, vJump);
         const cv::v_uint16 l = cv::vx_load(cost + d) + (m - vMin);
         cv::v_store(out + d, l);
