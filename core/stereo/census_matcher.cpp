@@ -1,8 +1,8 @@
 // The Census-based matchers as a flat list of stages; each stage lives in its own file
 // (stages.hpp lists them). Volumes of 16-bit costs are the only large buffers: the matching cost
-// is aggregated in place (with a second volume as scratch), then the scanline sum is written to
-// the second volume; the right view's pass has a third, which the left view's scanlines then
-// borrow as their scratch (with the right-view pass off, the scanline stage keeps its own).
+// is aggregated in place, then the scanline sum is written to a second volume; the right view's
+// pass has a third, which the left view's scanlines then borrow as their scratch (with the
+// right-view pass off, the scanline stage keeps its own).
 #include "core/stereo/census_matcher.hpp"
 
 #include <opencv2/imgproc.hpp>
@@ -110,14 +110,14 @@ cv::Mat CensusMatcher::compute(const cv::Mat& left, const cv::Mat& right, int ma
     const ScanlinePenalties penalties = scanlinePenalties(p);
     if (rightView) {
         cv::Mat mirroredDisparity;
-        aggregateCross(rightArms_, p.crossIterations, rightCosts_, scratch_, rowsFirst);
+        aggregateCross(rightArms_, p.crossIterations, rightCosts_, rowsFirst);
         aggregateScanlines(rightCosts_, mirroredRight, penalties, scratch_, p.rightViewScanlineDirections, nullptr,
                            &mirroredDisparity);
         cv::flip(mirroredDisparity, rightDisparity, 1);
     }
 
     // The rest of the left view's aggregation over its support regions.
-    aggregateCross(arms_, p.crossIterations, costs_, scratch_, rowsFirst);
+    aggregateCross(arms_, p.crossIterations, costs_, rowsFirst);
 
     // 5. Scanline optimisation along 8 directions, summed into the second volume; winner-take-all
     //    as each pixel's sum is completed (both views from the finished volume, the right one along

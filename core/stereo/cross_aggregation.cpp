@@ -328,15 +328,16 @@ void horizontalMeans(const CrossArms& arms, CostVolume& costs) {
     });
 }
 
-// Weighted mean along each pixel's vertical arm, costs -> out; kWeighted: w(q) is q's horizontal
-// line count, else 1. Columns split over stripes. A block of neighbouring columns is summed
-// together: walking one column alone would jump a whole image row in memory for every vector it
-// reads.
+// Weighted mean along each pixel's vertical arm, in place; kWeighted: w(q) is q's horizontal line
+// count, else 1. Columns split over stripes. A block of neighbouring columns is summed together:
+// walking one column alone would jump a whole image row in memory for every vector it reads. In
+// place, the block's costs are still in the nearest caches when their means are written over
+// them; written to another volume, every line of that volume had to be fetched from memory first.
 constexpr int kColumnBlock = 8;
 
 // The kLines columns from x0 on.
 template <bool kWeighted, int kLines>
-void columnMeans(const CrossArms& arms, const CostVolume& costs, CostVolume& out, int x0, Windows& windows,
+void columnMeans(const CrossArms& arms, CostVolume& costs, int x0, Windows& windows,
                  std::vector<std::uint32_t>& prefix) {
     const int height = costs.height;
     if (kWeighted) {
@@ -353,31 +354,27 @@ void columnMeans(const CrossArms& arms, const CostVolume& costs, CostVolume& out
     setWindows<kWeighted>(arms.up.ptr<std::uint8_t>() + x0, arms.down.ptr<std::uint8_t>() + x0, armStep, height,
                           kLines, windows);
     const auto rowStep = static_cast<std::ptrdiff_t>(costs.width) * costs.stride;
-    lineMeans<kWeighted, kLines>(costs.at(x0, 0), out.at(x0, 0), rowStep, costs.stride, height, costs.stride, windows,
-                                 prefix);
+    lineMeans<kWeighted, kLines>(costs.at(x0, 0), costs.at(x0, 0), rowStep, costs.stride, height, costs.stride,
+                                 windows, prefix);
 }
 
 template <bool kWeighted>
-void verticalMeans(const CrossArms& arms, const CostVolume& costs, CostVolume& out) {
+void verticalMeans(const CrossArms& arms, CostVolume& costs) {
     forEachStripe(costs.width, [&](int, int begin, int end) {
         thread_local Windows windows;
         thread_local std::vector<std::uint32_t> prefix;
         windows.resize(static_cast<std::size_t>(costs.height) * kColumnBlock);
         int x = begin;
         for (; end - x >= kColumnBlock; x += kColumnBlock) {
-            columnMeans<kWeighted, kColumnBlock>(arms, costs, out, x, windows, prefix);
+            columnMeans<kWeighted, kColumnBlock>(arms, costs, x, windows, prefix);
         }
-        // The rest: a smaller block, overlapping done columns if need be (harmless, as the pass
-        // does not read what it writes), else one column at a time.
-        constexpr int kSmallBlock = kColumnBlock / 2;
-        if (x < end && end - begin >= kSmallBlock) {
-            for (; end - x >= kSmallBlock; x += kSmallBlock) {
-                columnMeans<kWeighted, kSmallBlock>(arms, costs, out, x, windows, prefix);
-            }
-            if (x < end) columnMeans<kWeighted, kSmallBlock>(arms, costs, out, end - kSmallBlock, windows, prefix);
-        } else {
-            for (; x < end; ++x) columnMeans<kWeighted, 1>(arms, costs, out, x, windows, prefix);
+        // The rest: a half block, then single columns (blocks must not overlap: the pass is in place).
+        constexpr int kHalfBlock = kColumnBlock / 2;
+        if (end - x >= kHalfBlock) {
+            columnMeans<kWeighted, kHalfBlock>(arms, costs, x, windows, prefix);
+            x += kHalfBlock;
         }
+        for (; x < end; ++x) columnMeans<kWeighted, 1>(arms, costs, x, windows, prefix);
     });
 }
 
@@ -387,17 +384,15 @@ void meanAlongRow(const CrossArms& arms, CostVolume& costs, int y) {
     rowMeans<false>(arms, costs, y);
 }
 
-void aggregateCross(const CrossArms& arms, int iterations, CostVolume& costs, CostVolume& scratch, bool rowsDone) {
-    scratch.create(costs.width, costs.height, costs.disparities);
+void aggregateCross(const CrossArms& arms, int iterations, CostVolume& costs, bool rowsDone) {
     for (int iteration = 0; iteration < iterations; ++iteration) {
         if (horizontalFirst(iteration)) {
             if (iteration > 0 || !rowsDone) horizontalMeans<false>(arms, costs);
-            verticalMeans<true>(arms, costs, scratch);
+            verticalMeans<true>(arms, costs);
         } else {
-            verticalMeans<false>(arms, costs, scratch);
-            horizontalMeans<true>(arms, scratch);
+            verticalMeans<false>(arms, costs);
+            horizontalMeans<true>(arms, costs);
         }
-        std::swap(costs.data, scratch.data);
     }
     restorePadding(costs);
 }

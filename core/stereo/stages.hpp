@@ -177,10 +177,9 @@ void computeCrossArms(const cv::Mat& bgr, const Parameters& parameters, CrossArm
 void computeCrossArmsReference(const cv::Mat& bgr, const Parameters& parameters, CrossArms& arms);
 // `iterations` times, alternating the order (even iterations horizontal then vertical, odd ones
 // vertical then horizontal): arm sums along one axis, then the count-weighted sum of those along
-// the other, divided by the region's pixel count. Result back in costs; scratch is a second volume.
+// the other, divided by the region's pixel count. In place.
 // rowsDone: meanAlongRow has already run on every row (the first pass of the first iteration).
-void aggregateCross(const CrossArms& arms, int iterations, CostVolume& costs, CostVolume& scratch,
-                    bool rowsDone = false);
+void aggregateCross(const CrossArms& arms, int iterations, CostVolume& costs, bool rowsDone = false);
 // The first pass of aggregateCross for row y alone, in place: the plain mean along each pixel's
 // horizontal arm. The matcher runs it on each row as the cost stage completes it, while the row is
 // still in cache, instead of reading the whole volume back from memory.

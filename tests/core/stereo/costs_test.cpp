@@ -73,7 +73,7 @@ TEST(Costs, RowsHandedOnAsTheyCompleteGiveTheSameAggregation) {
     computeCrossArms(p.bgrLeft, parameters, leftArms);
     computeCrossArms(mirroredRight, parameters, rightArms);
     for (const int iterations : {1, 2}) {
-        CostVolume costs, rightCosts, scratch;
+        CostVolume costs, rightCosts;
         costs.create(211, 97, 40);
         rightCosts.create(211, 97, 40);
         std::vector<int> calls(97, 0);
@@ -84,8 +84,8 @@ TEST(Costs, RowsHandedOnAsTheyCompleteGiveTheSameAggregation) {
             meanAlongRow(rightArms, rightCosts, y);
         });
         EXPECT_EQ(calls, std::vector<int>(97, 1));
-        aggregateCross(leftArms, iterations, costs, scratch, true);
-        aggregateCross(rightArms, iterations, rightCosts, scratch, true);
+        aggregateCross(leftArms, iterations, costs, true);
+        aggregateCross(rightArms, iterations, rightCosts, true);
 
         CostVolume plain, plainRight;
         plain.create(211, 97, 40);

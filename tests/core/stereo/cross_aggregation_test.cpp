@@ -75,11 +75,11 @@ TEST(CrossAggregation, RegionMeanOverAFlatImage) {
     const cv::Mat image(5, 5, CV_8UC3, cv::Scalar::all(80));
     CrossArms arms;
     computeCrossArms(image, Parameters{}, arms);
-    CostVolume costs, scratch;
+    CostVolume costs;
     costs.create(5, 5, 2);
     std::fill(costs.data.begin(), costs.data.end(), 0);
     costs.at(1, 3)[0] = 2500;
-    aggregateCross(arms, 1, costs, scratch);
+    aggregateCross(arms, 1, costs);
     for (int y = 0; y < 5; ++y)
         for (int x = 0; x < 5; ++x) {
             EXPECT_EQ(costs.at(x, y)[0], 100);
@@ -96,14 +96,14 @@ TEST(CrossAggregation, OptimisedEqualsReference) {
     for (const cv::Mat& image : {noise, smooth}) {
         CrossArms arms;
         computeCrossArms(image, Parameters{}, arms);
-        CostVolume fast, plain, scratch;
+        CostVolume fast, plain;
         fast.create(631, 479, 13);
         cv::RNG rng(4);
         for (auto& c : fast.data) c = static_cast<std::uint16_t>(rng.uniform(0, 3 * kCostScale + 1));
         for (int y = 0; y < 479; ++y)
             for (int x = 0; x < 631; ++x) std::fill(fast.at(x, y) + 13, fast.at(x, y) + fast.stride, kPadCost);
         plain = fast;
-        aggregateCross(arms, 2, fast, scratch);
+        aggregateCross(arms, 2, fast);
         aggregateCrossReference(arms, 2, plain);
         EXPECT_EQ(fast.data, plain.data);
     }
@@ -121,7 +121,7 @@ TEST(CrossAggregation, OptimisedEqualsReferenceOnNarrowImages) {
             CrossArms arms;
             computeCrossArms(image, Parameters{}, arms);
             for (const int disparities : {5, 32}) {
-                CostVolume fast, plain, scratch;
+                CostVolume fast, plain;
                 fast.create(size.width, size.height, disparities);
                 cv::RNG rng(7);
                 for (auto& c : fast.data) c = static_cast<std::uint16_t>(rng.uniform(0, 3 * kCostScale + 1));
@@ -130,7 +130,7 @@ TEST(CrossAggregation, OptimisedEqualsReferenceOnNarrowImages) {
                         std::fill(fast.at(x, y) + disparities, fast.at(x, y) + fast.stride, kPadCost);
                     }
                 plain = fast;
-                aggregateCross(arms, 3, fast, scratch);
+                aggregateCross(arms, 3, fast);
                 aggregateCrossReference(arms, 3, plain);
                 EXPECT_EQ(fast.data, plain.data) << size << " " << disparities;
             }
