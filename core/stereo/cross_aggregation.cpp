@@ -272,6 +272,11 @@ void lineMeans(const std::uint16_t* cost, std::uint16_t* out, std::ptrdiff_t pix
         std::uint32_t* after = sums + kLines * kEntry;
         for (int i = 0; i < n; ++i) {
             const std::uint16_t* c = cost + i * pixelStep + d;
+            // Down a block of columns: the cells a few rows ahead, read now and written in place
+            // below (prefetchCells).
+            if (kLines > 1 && d == 0 && i + kPrefetchRows < n) {
+                prefetchCells(c + kPrefetchRows * pixelStep, kLines * stride, true);
+            }
             for (int k = 0; k < kLines; ++k, after += kEntry) {
                 cv::v_uint32 a, b;
                 if constexpr (kWeighted) {

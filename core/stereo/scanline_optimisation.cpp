@@ -362,6 +362,7 @@ void verticalPass(const CostVolume& costs, const PenaltyCases& cases, const Scan
 // then up, together: walking one column alone would jump a whole image row in memory for every
 // pixel's few cache lines, and the hardware prefetcher does not follow that. The up pass completes
 // each pixel's sum; `disparity`, when given, takes its winner.
+// The block's cells a few rows ahead are asked for before they are needed (prefetchCells).
 constexpr int kColumnBlock = 8;
 void columnPass(const CostVolume& costs, const PenaltyCases& cases, const ScanlinePenalties& penalties,
                 CostVolume& sum, cv::Mat* disparity) {
@@ -394,6 +395,10 @@ void columnPass(const CostVolume& costs, const PenaltyCases& cases, const Scanli
                 for (int step = 1; step < height; ++step) {
                     const int y = y0 + dy * step;
                     const std::uint8_t* c = cases.row(caseIndex, y) + x0;
+                    if (step + kPrefetchRows < height) {
+                        prefetchCells(costs.at(x0, y + kPrefetchRows * dy), columns * stride, false);
+                        prefetchCells(sum.at(x0, y + kPrefetchRows * dy), columns * stride, true);
+                    }
                     for (int k = 0; k < columns; ++k) {
                         minimum[k] = stepAndAccumulate<false>(costs.at(x0 + k, y), previous[k], minimum[k], stride,
                                                               penalties.p1[c[k]], penalties.p2[c[k]], current[k],

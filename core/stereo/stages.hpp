@@ -44,6 +44,24 @@ struct CostVolume {
     }
 };
 
+// Asks for the cache lines of `count` 16-bit cells from `cells` on, to read (and, forWriting, to
+// write). The passes that walk a block of columns down a volume ask for the block's cells
+// kPrefetchRows rows ahead: rows lie a whole image row apart, which the hardware prefetchers do not
+// follow, and each step would otherwise wait for memory. (Cones: about 1 ms of a pair's 60 in each
+// of the two passes that do it.)
+inline constexpr int kPrefetchRows = 6;
+inline void prefetchCells(const std::uint16_t* cells, int count, bool forWriting) {
+    const auto* bytes = reinterpret_cast<const char*>(cells);
+    constexpr int kCacheLine = 64;
+    for (int b = 0; b < count * 2; b += kCacheLine) {
+        if (forWriting) {
+            __builtin_prefetch(bytes + b, 1);
+        } else {
+            __builtin_prefetch(bytes + b, 0);
+        }
+    }
+}
+
 // Per-pixel Census bit strings, `words` 64-bit words per pixel.
 struct CensusImage {
     int width = 0;
