@@ -256,8 +256,11 @@ template <bool kWeighted, int kLines>
 void lineMeans(const std::uint16_t* cost, std::uint16_t* out, std::ptrdiff_t pixelStep, std::ptrdiff_t lineStep,
                int n, int stride, const Windows& windows, std::vector<std::uint32_t>& prefix) {
     constexpr int kEntry = 2 * kLanes32;  // one vector of 16-bit lanes as 32-bit sums
-    prefix.resize(static_cast<std::size_t>(n + 1) * kLines * kEntry);
-    std::uint32_t* const sums = prefix.data();
+    // Entries of 64 bytes, each on its own cache line (the buffer gets a line's worth of slack).
+    constexpr std::size_t kLineElements = 64 / sizeof(std::uint32_t);
+    prefix.resize(static_cast<std::size_t>(n + 1) * kLines * kEntry + kLineElements);
+    const auto misalignment = reinterpret_cast<std::uintptr_t>(prefix.data()) % 64 / sizeof(std::uint32_t);
+    std::uint32_t* const sums = prefix.data() + (kLineElements - misalignment) % kLineElements;
     const std::int32_t* const from = windows.from.data();
     const std::int32_t* const to = windows.to.data();
     const float* const inverse = windows.inverse.data();
