@@ -67,7 +67,7 @@ struct CensusImage {
     int width = 0;
     int height = 0;
     int words = 0;
-    std::vector<std::uint64_t> data;
+    std::vector<std::uint64_t, HugePageAllocator<std::uint64_t>> data;  // each pixel's words on one cache line
 
     void create(int w, int h, int wordsPerPixel);
     std::uint64_t* at(int x, int y) { return data.data() + (static_cast<std::size_t>(y) * width + x) * words; }
