@@ -23,6 +23,7 @@ TEST(HugePageAllocator, LargeBlocksStartOnAHugePageBoundary) {
 
 TEST(HugePageAllocator, SmallBlocksAndRegrowthKeepTheContents) {
     HugeVector v(100, 7);
+    EXPECT_EQ(reinterpret_cast<std::uintptr_t>(v.data()) % kCacheLine, 0u);
     v.resize(kHugePageSize);  // crosses from an ordinary block to a huge-page one
     EXPECT_EQ(v[99], 7);
     EXPECT_EQ(v[100], 0);
