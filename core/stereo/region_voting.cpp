@@ -70,16 +70,26 @@ int regionVoting(const CrossArms& arms, const Parameters& parameters, cv::Mat& d
             std::vector<std::uint16_t> histogram(static_cast<std::size_t>(pitch));
             std::vector<int> outliers;
             // Reliable pixels of the horizontal arm of (x, y) into counts; returns how many.
+            // Neighbours mostly share a disparity, and incrementing the same counter pixel after
+            // pixel waits on the previous increment's store every time: equal disparities are
+            // counted as runs in a register and added once per run.
             auto countSegment = [&](int x, int y, std::uint16_t* counts) {
                 const auto* d = before.ptr<std::int16_t>(y);
                 const auto* l = labelsBefore.ptr<std::uint8_t>(y);
                 const int x0 = x - arms.left.at<std::uint8_t>(y, x), x1 = x + arms.right.at<std::uint8_t>(y, x);
-                int reliable = 0;
+                int reliable = 0, runValue = 0, runLength = 0;
                 for (int xx = x0; xx <= x1; ++xx) {
                     if (l[xx] != kReliable) continue;
-                    ++counts[d[xx]];
                     ++reliable;
+                    if (d[xx] == runValue) {
+                        ++runLength;
+                        continue;
+                    }
+                    counts[runValue] = static_cast<std::uint16_t>(counts[runValue] + runLength);
+                    runValue = d[xx];
+                    runLength = 1;
                 }
+                counts[runValue] = static_cast<std::uint16_t>(counts[runValue] + runLength);
                 return reliable;
             };
             // The vote of outlier (x, y) on its region's histogram (whole vectors of counts).
