@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <cstdlib>
 #include <new>
+#include <vector>
 
 #if defined(__linux__)
 #include <sys/mman.h>
@@ -53,5 +54,9 @@ struct HugePageAllocator {
         return true;
     }
 };
+
+// A vector whose data starts a cache line (and, from 2 MiB on, a huge page).
+template <class T>
+using AlignedVector = std::vector<T, HugePageAllocator<T>>;
 
 }  // namespace icewatch

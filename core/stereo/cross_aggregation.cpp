@@ -254,13 +254,11 @@ void setWindows(const std::uint8_t* a, const std::uint8_t* b, std::ptrdiff_t arm
 // with AVX2 and stay in the nearest cache.
 template <bool kWeighted, int kLines>
 void lineMeans(const std::uint16_t* cost, std::uint16_t* out, std::ptrdiff_t pixelStep, std::ptrdiff_t lineStep,
-               int n, int stride, const Windows& windows, std::vector<std::uint32_t>& prefix) {
+               int n, int stride, const Windows& windows, AlignedVector<std::uint32_t>& prefix) {
     constexpr int kEntry = 2 * kLanes32;  // one vector of 16-bit lanes as 32-bit sums
-    // Entries of 64 bytes, each on its own cache line (the buffer gets a line's worth of slack).
-    constexpr std::size_t kLineElements = 64 / sizeof(std::uint32_t);
-    prefix.resize(static_cast<std::size_t>(n + 1) * kLines * kEntry + kLineElements);
-    const auto misalignment = reinterpret_cast<std::uintptr_t>(prefix.data()) % 64 / sizeof(std::uint32_t);
-    std::uint32_t* const sums = prefix.data() + (kLineElements - misalignment) % kLineElements;
+    // With AVX2 an entry is 64 bytes, each on its own cache line (AlignedVector).
+    prefix.resize(static_cast<std::size_t>(n + 1) * kLines * kEntry);
+    std::uint32_t* const sums = prefix.data();
     const std::int32_t* const from = windows.from.data();
     const std::int32_t* const to = windows.to.data();
     const float* const inverse = windows.inverse.data();
@@ -314,7 +312,7 @@ void rowMeans(const CrossArms& arms, CostVolume& costs, int y) {
     const int width = costs.width, stride = costs.stride;
     // Per thread, grown once for the largest image (no allocation per pair).
     thread_local Windows windows;
-    thread_local std::vector<std::uint32_t> prefix;
+    thread_local AlignedVector<std::uint32_t> prefix;
     windows.resize(static_cast<std::size_t>(width));
     if (kWeighted) {
         const std::uint8_t* up = arms.up.ptr<std::uint8_t>(y);
@@ -350,7 +348,7 @@ constexpr int kColumnBlock = 4;
 // The kLines columns from x0 on.
 template <bool kWeighted, int kLines>
 void columnMeans(const CrossArms& arms, CostVolume& costs, int x0, Windows& windows,
-                 std::vector<std::uint32_t>& prefix) {
+                 AlignedVector<std::uint32_t>& prefix) {
     const int height = costs.height;
     if (kWeighted) {
         for (int y = 0; y < height; ++y) {
@@ -374,7 +372,7 @@ template <bool kWeighted>
 void verticalMeans(const CrossArms& arms, CostVolume& costs) {
     forEachStripe(costs.width, [&](int, int begin, int end) {
         thread_local Windows windows;
-        thread_local std::vector<std::uint32_t> prefix;
+        thread_local AlignedVector<std::uint32_t> prefix;
         windows.resize(static_cast<std::size_t>(costs.height) * kColumnBlock);
         int x = begin;
         for (; end - x >= kColumnBlock; x += kColumnBlock) {

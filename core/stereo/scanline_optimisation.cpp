@@ -117,19 +117,18 @@ void stepThreeAndStartSum(const std::uint16_t* cost, const std::uint16_t* const 
 // alignment).
 class LineBuffers {
 public:
-    static constexpr std::size_t kAlign = 32;  // elements: 64 bytes
+    static constexpr std::size_t kAlign = kCacheLine / sizeof(std::uint16_t);  // elements
     void create(int count, int stride) {
         pitch_ = (static_cast<std::size_t>(stride) + kLanes + kAlign - 1) / kAlign * kAlign;
-        data_.assign(static_cast<std::size_t>(count) * pitch_ + 2 * kAlign, std::uint16_t{0xFFFF});
-        const auto address = reinterpret_cast<std::uintptr_t>(data_.data() + kLanes);
-        offset_ = kLanes + (kAlign * 2 - address % (kAlign * 2)) % (kAlign * 2) / 2;
+        // A whole line of guard before the first pixel; the data starts a line (AlignedVector).
+        data_.assign(kAlign + static_cast<std::size_t>(count) * pitch_, std::uint16_t{0xFFFF});
     }
-    std::uint16_t* at(int i) { return data_.data() + offset_ + static_cast<std::size_t>(i) * pitch_; }
+    std::uint16_t* at(int i) { return data_.data() + kAlign + static_cast<std::size_t>(i) * pitch_; }
     std::size_t pitch() const { return pitch_; }
 
 private:
-    std::size_t pitch_ = 0, offset_ = 0;
-    std::vector<std::uint16_t> data_;
+    std::size_t pitch_ = 0;
+    AlignedVector<std::uint16_t> data_;
 };
 
 // The first pixel of a line: L = C.

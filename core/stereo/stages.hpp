@@ -34,7 +34,7 @@ struct CostVolume {
     int height = 0;
     int disparities = 0;
     int stride = 0;
-    std::vector<std::uint16_t, HugePageAllocator<std::uint16_t>> data;
+    AlignedVector<std::uint16_t> data;
 
     // Allocates only when the size changes (one allocation per image size).
     void create(int w, int h, int d);
@@ -67,7 +67,7 @@ struct CensusImage {
     int width = 0;
     int height = 0;
     int words = 0;
-    std::vector<std::uint64_t, HugePageAllocator<std::uint64_t>> data;  // each pixel's words on one cache line
+    AlignedVector<std::uint64_t> data;  // each pixel's words on one cache line
 
     void create(int w, int h, int wordsPerPixel);
     std::uint64_t* at(int x, int y) { return data.data() + (static_cast<std::size_t>(y) * width + x) * words; }
