@@ -70,14 +70,14 @@ cv::v_int32 suppressLanes(const std::int32_t* mag, std::ptrdiff_t step, const cv
     return cv::v_select(maximum, cv::v_select(m > high, strong, cv::vx_setzero_s32()), none);
 }
 
-}  // namespace
+// Canny's map, kStrong on edges, in a buffer of this thread's with a border of one pixel.
+struct CannyMap {
+    const std::vector<std::uint8_t>& cells;
+    std::size_t step;  // width + 2
+    const std::uint8_t* row(int y) const { return cells.data() + (static_cast<std::size_t>(y) + 1) * step + 1; }
+};
 
-namespace {
-
-// Canny's map, kStrong on edges, in a buffer of this thread's with a border of one pixel: pixel
-// (x, y) at map[(y + 1) * (width + 2) + x + 1].
-const std::vector<std::uint8_t>& cannyMap(const cv::Mat& dx, const cv::Mat& dy, double lowThreshold,
-                                          double highThreshold) {
+CannyMap cannyMap(const cv::Mat& dx, const cv::Mat& dy, double lowThreshold, double highThreshold) {
     const int width = dx.cols, height = dx.rows;
     // Thresholds on the squared norm, as cv::Canny turns them.
     if (lowThreshold > highThreshold) std::swap(lowThreshold, highThreshold);
@@ -88,12 +88,14 @@ const std::vector<std::uint8_t>& cannyMap(const cv::Mat& dx, const cv::Mat& dy, 
     const int low = cvFloor(lowThreshold), high = cvFloor(highThreshold);
 
     // Squared gradients with a border of zeros, and the map with a border of kNone. Grown once per
-    // thread for the largest image.
+    // thread for the largest image; only the borders need setting, the rest is written below.
     const std::ptrdiff_t step = width + 2;
     thread_local std::vector<std::int32_t> magnitude;
     thread_local std::vector<std::uint8_t> map;
     thread_local std::vector<std::int32_t> stack;
-    magnitude.assign(static_cast<std::size_t>(step * (height + 2)), 0);
+    magnitude.resize(static_cast<std::size_t>(step * (height + 2)));
+    std::fill(magnitude.begin(), magnitude.begin() + step, 0);
+    std::fill(magnitude.end() - step, magnitude.end(), 0);
     map.resize(static_cast<std::size_t>(step * (height + 2)));
     std::fill(map.begin(), map.begin() + step, kNone);
     std::fill(map.end() - step, map.end(), kNone);
@@ -105,6 +107,7 @@ const std::vector<std::uint8_t>& cannyMap(const cv::Mat& dx, const cv::Mat& dy, 
         const auto* gx = dx.ptr<std::int16_t>(y);
         const auto* gy = dy.ptr<std::int16_t>(y);
         std::int32_t* m = magAt(y);
+        m[-1] = m[width] = 0;
         int x = 0;
         for (; x + kLanes16 <= width; x += kLanes16) {
             cv::v_int32 x0, x1, y0, y1;
@@ -157,7 +160,7 @@ const std::vector<std::uint8_t>& cannyMap(const cv::Mat& dx, const cv::Mat& dy, 
             }
         }
     }
-    return map;
+    return {map, static_cast<std::size_t>(step)};
 }
 
 }  // namespace
@@ -166,10 +169,9 @@ void cannyEdges(const cv::Mat& dx, const cv::Mat& dy, double low, double high, c
     CV_Assert(dx.type() == CV_16SC1 && dy.type() == CV_16SC1 && dx.size() == dy.size());
     edges.create(dx.size(), CV_8UC1);
     if (dx.empty()) return;
-    const std::vector<std::uint8_t>& map = cannyMap(dx, dy, low, high);
-    const std::size_t step = static_cast<std::size_t>(dx.cols) + 2;
+    const CannyMap map = cannyMap(dx, dy, low, high);
     for (int y = 0; y < dx.rows; ++y) {
-        const std::uint8_t* row = map.data() + (static_cast<std::size_t>(y) + 1) * step + 1;
+        const std::uint8_t* row = map.row(y);
         auto* out = edges.ptr<std::uint8_t>(y);
         for (int x = 0; x < dx.cols; ++x) out[x] = row[x] == kStrong ? 255 : 0;
     }
@@ -185,7 +187,7 @@ cv::Mat edgeCornerBits(const cv::Mat& grey, const Parameters& parameters) {
     // worker thread, cost more in page faults than the work done in them.
     thread_local cv::Mat dx, dy;
     sobel16(grey, dx, dy);
-    const std::vector<std::uint8_t>& map = cannyMap(dx, dy, parameters.cannyLowThreshold, parameters.cannyHighThreshold);
+    const CannyMap map = cannyMap(dx, dy, parameters.cannyLowThreshold, parameters.cannyHighThreshold);
 
     // Harris, k = 0.04 over 3x3 blocks (replicated border) of the products of the derivatives:
     // exact integer sums, per row a vertical sum of three product rows, then a horizontal one.
@@ -256,7 +258,7 @@ cv::Mat edgeCornerBits(const cv::Mat& grey, const Parameters& parameters) {
     }
     const double cornerLimit = parameters.harrisThreshold * maxResponse;
     for (int y = 0; y < height; ++y) {
-        const std::uint8_t* e = map.data() + (static_cast<std::size_t>(y) + 1) * (columns + 2) + 1;
+        const std::uint8_t* e = map.row(y);
         const double* r = response.data() + static_cast<std::size_t>(y) * columns;
         auto* out = bits.ptr<std::uint8_t>(y);
         for (int x = 0; x < width; ++x) {
