@@ -1,5 +1,7 @@
 // Baseline persistence. The images are kept lossless (PNG) because the volume is the difference
-// against them; JPEG artefacts would show up as ice.
+// against them; JPEG artefacts would show up as ice. An averaged capture (float grey) is kept as
+// 16-bit grey in 1/256 grey levels, so its fraction survives: rounding it to 8 bits would throw
+// away what the averaging gained.
 #include "daemon/baseline_store.hpp"
 
 #include <fstream>
@@ -15,12 +17,26 @@
 namespace icewatch::daemon {
 
 namespace {
+constexpr double kFloatScale = 256.0;
+
 bool writePng(const std::filesystem::path& path, const cv::Mat& image) {
     std::vector<uchar> bytes;
-    if (!cv::imencode(".png", image, bytes)) {
+    cv::Mat stored = image;
+    if (image.depth() == CV_32F) image.convertTo(stored, CV_16U, kFloatScale);
+    if (!cv::imencode(".png", stored, bytes)) {
         return false;
     }
     return writeFileAtomically(path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
+}
+cv::Mat readPng(const std::filesystem::path& path) {
+    cv::Mat image = cv::imread(path.string(), cv::IMREAD_UNCHANGED);
+    if (image.depth() == CV_16U && image.channels() == 1) {
+        cv::Mat grey;
+        image.convertTo(grey, CV_32F, 1.0 / kFloatScale);
+        return grey;
+    }
+    if (image.depth() != CV_8U || (image.channels() != 1 && image.channels() != 3)) return {};
+    return image;
 }
 }  // namespace
 
@@ -87,8 +103,8 @@ std::optional<BaselineRecord> loadBaseline(const std::filesystem::path& stateDir
         error = (dir / "baseline.json").string() + ": image names must be plain file names";
         return std::nullopt;
     }
-    record.pair.left = cv::imread((dir / leftName).string(), cv::IMREAD_COLOR);
-    record.pair.right = cv::imread((dir / rightName).string(), cv::IMREAD_COLOR);
+    record.pair.left = readPng(dir / leftName);
+    record.pair.right = readPng(dir / rightName);
     if (record.pair.left.empty() || record.pair.right.empty() || record.pair.left.size() != record.pair.right.size()) {
         error = dir.string() + ": the baseline images are missing or unreadable";
         return std::nullopt;

@@ -1,20 +1,20 @@
-// The measurement cycle. A single frame can be spoilt by a passing bird, a raindrop or a JPEG
-// glitch, so each cycle grabs a burst and reports the median; how far the burst's volumes scatter
-// is measurement noise the per-frame uncertainty does not see, so it is added to it in quadrature
-// (as a robust standard deviation, 1.4826 x the median absolute deviation, expanded with the
-// chain's coverage factor so both terms mean the same). The frames of one
-// burst are seconds apart and strongly correlated, so the spread is not divided by sqrt(N).
+// The measurement cycle. A parked blade and a fixed camera give many frames of one scene in a
+// fraction of a second, so a cycle grabs a burst and measures its float average once: the sensor
+// noise, and most of the JPEG and quantisation error, fall by the square root of the frames kept.
+// Frames failing the image-health check, or that moved or changed against the others (a gust, a
+// bird), are left out of the average and named in the quality flags.
 //
-// Outcome rules: any grab failure is a camera fault (the camera went away mid-cycle); a chain
-// failure on every measurable frame is a measurement fault; fewer than min_frames measured frames
-// otherwise is a refusal with the reasons; else a volume.
+// Outcome rules: any grab failure is a camera fault (the camera went away mid-cycle); fewer than
+// min_frames usable frames is a refusal naming why; a chain failure is a measurement fault, its
+// refusal a refusal; else a volume.
 #include "daemon/measurement_cycle.hpp"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 
-#include "core/health/image_health.hpp"
+#include "core/common/side_by_side.hpp"
+#include "core/volume/capture_average.hpp"
 
 namespace icewatch::daemon {
 
@@ -27,19 +27,16 @@ double msSince(Steady::time_point start) {
 }
 
 struct Burst {
-    std::vector<StereoPair> healthy;
-    std::vector<double> sharpness;  // of each healthy pair (the weaker eye)
-    std::vector<int> frameNumbers;  // 1-based, for messages
+    std::vector<cv::Mat> frames;     // side-by-side, as grabbed
+    std::vector<std::string> names;  // "frame 3", for messages
     int grabbed = 0;
     bool cameraFailed = false;
     std::string cameraError;
-    std::vector<QualityFlag> flags;
     double grabMs = 0.0;
-    double healthMs = 0.0;
 };
 
-// Grabs and health-checks a burst. Returns nullopt when cancelled.
-std::optional<Burst> grabBurst(FrameSource& source, const config::DaemonConfig& config, const CancelCheck& cancelled,
+// Grabs a burst of `count` frames. Returns nullopt when cancelled.
+std::optional<Burst> grabBurst(FrameSource& source, int count, const CancelCheck& cancelled,
                                const ProgressCallback& progress) {
     Burst burst;
     std::string error;
@@ -48,7 +45,7 @@ std::optional<Burst> grabBurst(FrameSource& source, const config::DaemonConfig& 
         burst.cameraError = "camera offline: " + error;
         return burst;
     }
-    for (int i = 1; i <= config.burstFrames; ++i) {
+    for (int i = 1; i <= count; ++i) {
         if (cancelled()) {
             return std::nullopt;
         }
@@ -62,42 +59,27 @@ std::optional<Burst> grabBurst(FrameSource& source, const config::DaemonConfig& 
             return burst;
         }
         ++burst.grabbed;
-        const auto healthStart = Steady::now();
-        bool healthy = true;
-        double sharpness = 0.0;
-        for (const auto& [eye, image] : {std::pair{"left", &pair->left}, std::pair{"right", &pair->right}}) {
-            const health::ImageHealth h = health::checkImageHealth(*image, config.health);
-            sharpness = eye == std::string("left") ? h.sharpness : std::min(sharpness, h.sharpness);
-            for (const auto& p : h.problems) {
-                burst.flags.push_back({p.flag, "frame " + std::to_string(i) + " " + eye + ": " + p.reason});
-                healthy = false;
-            }
-        }
-        burst.healthMs += msSince(healthStart);
-        if (healthy) {
-            burst.healthy.push_back(std::move(*pair));
-            burst.sharpness.push_back(sharpness);
-            burst.frameNumbers.push_back(i);
-        }
+        burst.frames.push_back(joinSideBySide(pair->left, pair->right));
+        burst.names.push_back("frame " + std::to_string(i));
     }
     return burst;
 }
 
-std::string flagSummary(const std::vector<QualityFlag>& flags) {
-    std::map<std::string, int> counts;
-    for (const auto& f : flags) ++counts[f.flag];
-    std::string text;
-    for (const auto& [flag, n] : counts) text += (text.empty() ? "" : ", ") + flag + " x" + std::to_string(n);
-    return text;
+// The burst's average, its frames checked as capture_average.hpp says.
+volume::AveragedCapture averageBurst(const Burst& burst, const config::DaemonConfig& config) {
+    volume::CaptureAverageOptions options;
+    options.health = config.health;
+    options.minFrames = config.minFrames;
+    return volume::averageCapture(burst.frames, burst.names, options);
+}
+
+std::vector<QualityFlag> qualityFlags(const volume::AveragedCapture& capture) {
+    std::vector<QualityFlag> flags;
+    for (const auto& d : capture.dropped) flags.push_back({d.flag, d.reason});
+    return flags;
 }
 
 }  // namespace
-
-double median(std::vector<double> values) {
-    std::sort(values.begin(), values.end());
-    const std::size_t n = values.size();
-    return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
 
 std::optional<CycleOutcome> runMeasurementCycle(FrameSource& source, MeasurementChain& chain,
                                                 const config::DaemonConfig& config,
@@ -114,109 +96,67 @@ std::optional<CycleOutcome> runMeasurementCycle(FrameSource& source, Measurement
         r.camera = source.health(detail);
         return outcome;
     }
-    std::optional<Burst> burst = grabBurst(source, config, cancelled, progress);
+    std::optional<Burst> burst = grabBurst(source, config.burstFrames, cancelled, progress);
     if (!burst) {
         return std::nullopt;
     }
     r.framesGrabbed = burst->grabbed;
-    r.framesHealthy = static_cast<int>(burst->healthy.size());
-    r.quality = burst->flags;
     r.timingsMs["grab"] = burst->grabMs;
-    r.timingsMs["health"] = burst->healthMs;
     if (burst->cameraFailed) {
         r.status = CycleStatus::Fault;
         r.reason = burst->cameraError;
         r.camera = CameraState::Offline;
         return outcome;
     }
+    const auto averageStart = Steady::now();
+    const volume::AveragedCapture capture = averageBurst(*burst, config);
+    r.timingsMs["average"] = msSince(averageStart);
+    r.framesHealthy = capture.framesHealthy;
+    r.framesMeasured = capture.framesUsed;
+    r.quality = qualityFlags(capture);
     r.camera = source.health(detail);
     if (r.camera == CameraState::Ok && r.framesHealthy < r.framesGrabbed) {
         r.camera = CameraState::Degraded;
     }
-
-    std::vector<ChainResult> measured;
-    std::vector<int> measuredFrames;
-    int failed = 0;
-    std::string firstRefusal, firstFailure;
-    const auto measureStart = Steady::now();
-    for (std::size_t i = 0; i < burst->healthy.size(); ++i) {
-        if (cancelled()) {
-            return std::nullopt;
-        }
-        ChainResult c = chain.estimate(burst->healthy[i]);
-        progress();
-        const std::string frame = "frame " + std::to_string(burst->frameNumbers[i]) + ": ";
-        if (c.status == ChainResult::Status::Ok) {
-            measured.push_back(std::move(c));
-            measuredFrames.push_back(burst->frameNumbers[i]);
-        } else if (c.status == ChainResult::Status::Refused) {
-            r.quality.push_back({"refused", frame + c.reason});
-            if (firstRefusal.empty()) firstRefusal = c.reason;
-        } else {
-            ++failed;
-            r.quality.push_back({"failed", frame + c.reason});
-            if (firstFailure.empty()) firstFailure = c.reason;
-        }
-    }
-    r.timingsMs["measure"] = msSince(measureStart);
-    r.framesMeasured = static_cast<int>(measured.size());
-
-    if (r.framesMeasured < config.minFrames) {
-        if (failed > 0 && failed == r.framesHealthy) {
-            r.status = CycleStatus::Fault;
-            r.reason = "measurement failed: " + firstFailure;
-        } else {
-            r.status = CycleStatus::Refused;
-            if (r.framesHealthy < config.minFrames) {
-                r.reason = std::to_string(r.framesHealthy) + " of " + std::to_string(r.framesGrabbed) +
-                           " frames passed the image-health check (" + flagSummary(burst->flags) + "), " +
-                           std::to_string(config.minFrames) + " needed";
-            } else {
-                r.reason = std::to_string(r.framesMeasured) + " of " + std::to_string(r.framesHealthy) +
-                           " healthy frames measured, " + std::to_string(config.minFrames) + " needed: " +
-                           (firstRefusal.empty() ? firstFailure : firstRefusal);
-            }
-        }
+    if (capture.frame.empty()) {
+        r.status = CycleStatus::Refused;
+        r.reason = "the burst gave no capture: " + capture.reason;
         r.timingsMs["total"] = msSince(cycleStart);
         return outcome;
     }
-
-    std::vector<double> volumes, uncertainties, meanThickness, maxThickness, valid;
-    for (const auto& c : measured) {
-        volumes.push_back(c.volumeMm3);
-        uncertainties.push_back(c.uncertaintyMm3);
-        meanThickness.push_back(c.meanThicknessMm);
-        maxThickness.push_back(c.maxThicknessMm);
-        valid.push_back(c.validPercent);
+    if (cancelled()) {
+        return std::nullopt;
     }
-    const double volume = median(volumes);
-    std::vector<double> deviations;
-    for (double v : volumes) deviations.push_back(std::abs(v - volume));
-    const double spread = measured.front().coverageFactor * 1.4826 * median(deviations);
-    const double frameUncertainty = median(uncertainties);
-    r.status = CycleStatus::Ok;
-    r.volumeMm3 = volume;
-    r.uncertaintyMm3 = std::sqrt(frameUncertainty * frameUncertainty + spread * spread);
-    r.meanThicknessMm = median(meanThickness);
-    r.maxThicknessMm = median(maxThickness);
-    r.validPercent = median(valid);
-    // Pictures and per-stage timings of the frame nearest the median: one coherent example.
-    std::size_t nearest = 0;
-    for (std::size_t i = 1; i < measured.size(); ++i) {
-        if (std::abs(volumes[i] - volume) < std::abs(volumes[nearest] - volume)) nearest = i;
-    }
-    for (const auto& [stage, ms] : measured[nearest].timingsMs) {
-        r.timingsMs["chain_" + stage] = ms;
-    }
-    outcome.pictures = std::move(measured[nearest].pictures);
+    const auto measureStart = Steady::now();
+    ChainResult c = chain.estimate(splitSideBySide(capture.frame));
+    progress();
+    r.timingsMs["measure"] = msSince(measureStart);
+    for (const auto& [stage, ms] : c.timingsMs) r.timingsMs["chain_" + stage] = ms;
     r.timingsMs["total"] = msSince(cycleStart);
+    if (c.status == ChainResult::Status::Failed) {
+        r.status = CycleStatus::Fault;
+        r.reason = "measurement failed: " + c.reason;
+        return outcome;
+    }
+    if (c.status == ChainResult::Status::Refused) {
+        r.status = CycleStatus::Refused;
+        r.reason = c.reason;
+        return outcome;
+    }
+    r.status = CycleStatus::Ok;
+    r.volumeMm3 = c.volumeMm3;
+    r.uncertaintyMm3 = c.uncertaintyMm3;
+    r.meanThicknessMm = c.meanThicknessMm;
+    r.maxThicknessMm = c.maxThicknessMm;
+    r.validPercent = c.validPercent;
+    outcome.pictures = std::move(c.pictures);
     return outcome;
 }
 
 BaselineCapture captureBaselinePair(FrameSource& source, MeasurementChain& chain, const config::DaemonConfig& config,
                                     const CancelCheck& cancelled, const ProgressCallback& progress) {
     BaselineCapture capture;
-    std::optional<Burst> burst = grabBurst(source, config, cancelled, progress);
+    std::optional<Burst> burst = grabBurst(source, config.baselineFrames, cancelled, progress);
     if (!burst) {
         capture.reason = "cancelled";
         return capture;
@@ -225,12 +165,12 @@ BaselineCapture captureBaselinePair(FrameSource& source, MeasurementChain& chain
         capture.reason = burst->cameraError;
         return capture;
     }
-    if (burst->healthy.empty()) {
-        capture.reason = "no frame of the burst passed the image-health check (" + flagSummary(burst->flags) + ")";
+    const volume::AveragedCapture averaged = averageBurst(*burst, config);
+    if (averaged.frame.empty()) {
+        capture.reason = "the burst gave no clean capture: " + averaged.reason;
         return capture;
     }
-    const auto sharpest = std::max_element(burst->sharpness.begin(), burst->sharpness.end()) - burst->sharpness.begin();
-    StereoPair& pair = burst->healthy[static_cast<std::size_t>(sharpest)];
+    StereoPair pair = splitSideBySide(averaged.frame);
     const ChainResult accepted = chain.setBaseline(pair);
     if (accepted.status != ChainResult::Status::Ok) {
         capture.reason = "the volume chain refused the baseline: " + accepted.reason;

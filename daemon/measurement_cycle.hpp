@@ -22,16 +22,17 @@ using CancelCheck = std::function<bool()>;
 // Called after every frame: the loop is making progress (the systemd watchdog).
 using ProgressCallback = std::function<void()>;
 
-// One measurement cycle: grab a burst of daemon.burst_frames frames (freshest each), drop those
-// failing the image-health check, measure the rest against the baseline, combine (median volume,
-// spread folded into the uncertainty). nullopt when cancelled. `time` stamps the result; the
+// One measurement cycle: grab a burst of daemon.burst_frames frames (freshest each), average those
+// that pass the image-health check and show the same still scene, measure the average once against
+// the baseline. nullopt when cancelled. `time` stamps the result; the
 // caller fills alarm, version and config hash.
 std::optional<CycleOutcome> runMeasurementCycle(FrameSource& source, MeasurementChain& chain,
                                                 const config::DaemonConfig& config,
                                                 std::chrono::system_clock::time_point time,
                                                 const CancelCheck& cancelled, const ProgressCallback& progress);
 
-// The clean-blade reference: the sharpest healthy frame of a burst, accepted by the chain.
+// The clean-blade reference: the average of daemon.baseline_frames frames (healthy and still),
+// accepted by the chain. pair: CV_32F grey eyes.
 struct BaselineCapture {
     bool ok = false;
     std::string reason;  // when not ok
@@ -39,8 +40,5 @@ struct BaselineCapture {
 };
 BaselineCapture captureBaselinePair(FrameSource& source, MeasurementChain& chain, const config::DaemonConfig& config,
                                     const CancelCheck& cancelled, const ProgressCallback& progress);
-
-// Median of values (the mean of the middle two for an even count). values must not be empty.
-double median(std::vector<double> values);
 
 }  // namespace icewatch::daemon

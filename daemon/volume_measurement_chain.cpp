@@ -77,7 +77,7 @@ ChainResult VolumeMeasurementChain::estimate(const StereoPair& current) {
     r.meanThicknessMm = v.meanThicknessMm;
     r.maxThicknessMm = v.maxThicknessMm;
     r.validPercent = v.validPercent;
-    r.pictures.left = current.left;
+    r.pictures.left = surface.rectifiedLeft;
     r.pictures.disparity = v.disparityColour;
     r.pictures.thickness = v.thicknessColour;
     return r;

@@ -61,18 +61,14 @@ void readVolume(Section s, volume::Parameters& v) {
     }
     s.read("edge_margin_px", v.edgeMarginPx, 0, 50);
     s.read("segmentation_band_mm", v.segmentationBandMm, 1.0, 5000.0);
-    s.read("icp_iterations", v.icpIterations, 1, 500);
-    s.read("icp_convergence_mm", v.icpConvergenceMm, 1e-6, 10.0);
-    s.read("icp_sample_step", v.icpSampleStep, 1, 16);
-    s.read("icp_trim_sigma", v.icpTrimSigma, 1.0, 20.0);
-    s.read("icp_settled_mm", v.icpSettledMm, 1e-6, 10.0);
-    s.read("texture_inlier_mm", v.textureInlierMm, 0.01, 100.0);
-    s.read("min_texture_inliers", v.minTextureInliers, 6, 100000);
-    s.read("texture_support_px", v.textureSupportPx, 1, 500);
-    s.read("change_threshold_mm", v.changeThresholdMm, 0.01, 100.0);
+    s.read("track_radius_px", v.trackRadiusPx, 4, 40);
+    s.read("track_step_px", v.trackStepPx, 2, 100);
+    s.read("track_search_px", v.trackSearchPx, 1, 64);
+    s.read("min_evidence_samples", v.minEvidenceSamples, 6, 100000);
+    s.read("background_band_mm", v.backgroundBandMm, 0.0, 10000.0);
     s.read("max_registration_mm", v.maxRegistrationMm, 0.1, 1000.0);
-    s.read("max_registration_rms_mm", v.maxRegistrationRmsMm, 0.01, 100.0);
     s.read("min_support_span_percent", v.minSupportSpanPercent, 0.0, 100.0);
+    s.read("ice_mask_grow_px", v.iceMaskGrowPx, 0, 500);
     s.read("knn_k", v.knnK, 2, 100);
     s.read("knn_theta", v.knnTheta, 0.1, 20.0);
     s.read("grid_cell_mm", v.gridCellMm, 0.05, 100.0);
@@ -158,10 +154,11 @@ void readHealth(Section s, ImageHealthConfig& health) {
 
 void readDaemon(Section s, DaemonConfig& daemon) {
     s.read("interval_s", daemon.intervalS, 10, 86400);
-    s.read("burst_frames", daemon.burstFrames, 1, 50);
-    s.read("min_frames", daemon.minFrames, 1, 50);
-    if (daemon.minFrames > daemon.burstFrames) {
-        s.fail("min_frames", "must not exceed burst_frames");
+    s.read("burst_frames", daemon.burstFrames, 1, 256);
+    s.read("baseline_frames", daemon.baselineFrames, 1, 256);
+    s.read("min_frames", daemon.minFrames, 1, 256);
+    if (daemon.minFrames > daemon.burstFrames || daemon.minFrames > daemon.baselineFrames) {
+        s.fail("min_frames", "must not exceed burst_frames or baseline_frames");
     }
     s.read("camera_check_s", daemon.cameraCheckS, 1, 3600);
     s.read("state_dir", daemon.stateDir);

@@ -45,14 +45,15 @@ struct CalibrationConfig {
 struct ImageHealthConfig {
     double minMeanLevel = 25.0;          // mean grey level (0-255) below this: dark
     double maxSaturatedPercent = 20.0;   // share of pixels at 250 or more above this: saturated
-    double minSharpness = 20.0;          // variance of the Laplacian at 1/4 scale below this: blurred
+    double minSharpness = 5.0;           // variance of the Laplacian at 1/4 scale below this: blurred
     double minContrast = 6.0;            // standard deviation of grey below this: fog, droplets
 };
 
 struct DaemonConfig {
     int intervalS = 600;                 // measurement cadence
-    int burstFrames = 5;                 // frames grabbed per cycle (freshest frame each)
-    int minFrames = 3;                   // measured frames needed for a result
+    int burstFrames = 16;                // frames grabbed per cycle (freshest each), averaged into one capture
+    int baselineFrames = 32;             // frames averaged into the baseline (commissioning is not in a hurry)
+    int minFrames = 8;                   // healthy, still frames the average needs
     int cameraCheckS = 5;                // camera health is looked at this often between cycles
     std::string stateDir = "/var/lib/icewatch";
     ImageHealthConfig health;

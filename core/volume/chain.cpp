@@ -28,7 +28,9 @@
 #include "core/volume/outlier_filter.hpp"
 #include "core/volume/registration.hpp"
 #include "core/volume/roi.hpp"
-#include "core/volume/texture_registration.hpp"
+#include "core/volume/ice_mask.hpp"
+#include "core/volume/motion_evidence.hpp"
+#include "core/volume/texture_tracks.hpp"
 
 namespace icewatch::volume {
 
@@ -56,11 +58,20 @@ private:
     std::chrono::steady_clock::time_point start_;
 };
 
-cv::Mat toGrey(const cv::Mat& image) {
-    if (image.channels() == 1) return image;
-    cv::Mat grey;
-    cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY);
-    return grey;
+// Grey in floating point: an averaged capture stays as it is, a camera frame is converted.
+cv::Mat toFloatGrey(const cv::Mat& image) {
+    cv::Mat grey = image;
+    if (image.channels() == 3) cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY);
+    cv::Mat out;
+    grey.convertTo(out, CV_32F);
+    return out;
+}
+
+// What the matcher reads: its integer stages work on whole grey levels.
+cv::Mat matcherInput(const cv::Mat& grey) {
+    cv::Mat rounded;
+    grey.convertTo(rounded, CV_8U);
+    return rounded;
 }
 
 // [X Y Z W]ᵀ = Q·[x y d 1]ᵀ for every valid disparity; NaN elsewhere.
@@ -157,8 +168,8 @@ void checkParameters(const Parameters& p) {
     if (p.maxDisparity < 1) fail("max_disparity must be positive");
     if (p.knnK < 2 || p.knnTheta <= 0) fail("knn_k must be >= 2 and knn_theta positive");
     if (p.gridCellMm <= 0) fail("grid_cell_mm must be positive");
-    if (p.correlationPx < 1 || p.icpSampleStep < 1 || p.icpIterations < 1) {
-        fail("correlation_px, icp_sample_step and icp_iterations must be positive");
+    if (p.correlationPx < 1 || p.trackRadiusPx < 1 || p.trackStepPx < 1 || p.trackSearchPx < 1) {
+        fail("correlation_px and the track_* sizes must be positive");
     }
     if (p.occlusionSlope < 0 || p.occlusionStepMm < 0) fail("occlusion_slope and occlusion_step_mm must not be negative");
     if (!p.roiPolygon.empty() && (p.roiPolygon.size() % 2 != 0 || p.roiPolygon.size() < 6)) {
@@ -224,10 +235,11 @@ Surface VolumeChain::measureSurface(const StereoPair& raw) {
     Surface s;
     StageTimer timer(impl_->clock, s.timingsMs);
     const StereoPair rectified = impl_->rectifier.rectify(raw);
-    s.rectifiedLeft = toGrey(rectified.left);
-    const cv::Mat rightGrey = toGrey(rectified.right);
+    s.leftGrey = toFloatGrey(rectified.left);
+    s.rightGrey = toFloatGrey(rectified.right);
+    s.leftGrey.convertTo(s.rectifiedLeft, CV_8U);
     timer.lap("rectify");
-    s.disparity = impl_->matcher.compute(s.rectifiedLeft, rightGrey, impl_->parameters.maxDisparity);
+    s.disparity = impl_->matcher.compute(matcherInput(s.leftGrey), matcherInput(s.rightGrey), impl_->parameters.maxDisparity);
     timer.lap("match");
     s.points = reproject(s.disparity, impl_->calibration.Q);
     timer.lap("reproject");
@@ -244,7 +256,8 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     const Parameters& p = impl_->parameters;
     VolumeResult result;
     StageTimer timer(impl_->clock, result.timingsMs);
-    if (baseline.points.empty() || current.points.empty() || baseline.points.size() != current.points.size()) {
+    if (baseline.points.empty() || current.points.empty() || baseline.points.size() != current.points.size() ||
+        baseline.leftGrey.size() != current.leftGrey.size()) {
         throw InvalidInput("volume: baseline and current surfaces must come from the same calibration");
     }
     result.validPercent = current.validPercent;
@@ -280,134 +293,51 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     const double depthMm = plane.origin[2];
     timer.lap("plane");
 
-    // --- register the current capture onto the baseline ---
-    const int step = p.icpSampleStep;
-    std::vector<cv::Vec3d> samples;
-    std::vector<cv::Point> samplePixels;
-    auto sampleCurrent = [&](const cv::Mat& where) {
-        samples.clear();
-        samplePixels.clear();
-        for (int y = 0; y < current.points.rows; y += step)
-            for (int x = 0; x < current.points.cols; x += step) {
-                const cv::Vec3f q = current.points.at<cv::Vec3f>(y, x);
-                if (where.at<std::uint8_t>(y, x) && validPoint(q)) {
-                    samples.emplace_back(q[0], q[1], q[2]);
-                    samplePixels.emplace_back(x / step, y / step);
-                }
-            }
-    };
-    const cv::Mat normals = organizedNormals(baseline.points, 3);
-    cv::Mat textureSupport;  // current pixels near unchanged texture; empty when registered on shape alone
-    RegistrationOptions options{p.icpIterations, p.icpConvergenceMm, p.icpTrimSigma, p.icpSettledMm};
-    RegistrationResult registration;
-    // First from the texture of the unchanged parts, which pins the slide along the span and the
-    // turn about the normal that the shape leaves free; features are taken well inside the
-    // outline, away from the silhouette, where the background moves differently.
-    cv::Mat featureMask;
-    cv::erode(measured, featureMask, cv::getStructuringElement(cv::MORPH_ELLIPSE, {17, 17}));
-    TextureRegistrationOptions textureOptions;
-    textureOptions.inlierMm = p.textureInlierMm;
-    const TextureRegistrationResult texture = registerByTexture(baseline.rectifiedLeft, baseline.points,
-                                                                current.rectifiedLeft, current.points, featureMask, plane,
-                                                                textureOptions);
-    result.textureInliers = texture.inliers;
-    if (texture.ok && texture.inliers >= p.minTextureInliers) {
-        // The shape then fixes the out-of-plane motion, first only around the texture's inliers:
-        // ice changes the texture, so they lie on what did not change, whereas ice may cover more
-        // than half of a blade and would win any robust fit over the whole region.
-        textureSupport = cv::Mat::zeros(measured.size(), CV_8U);
-        for (const cv::Point2f& at : texture.inlierPixels) {
-            cv::circle(textureSupport, cv::Point(cvRound(at.x), cvRound(at.y)), p.textureSupportPx, cv::Scalar(255), cv::FILLED);
-        }
-        textureSupport &= measured;
-        sampleCurrent(textureSupport);
-        RegistrationOptions outOfPlane = options;
-        outOfPlane.outOfPlaneOnly = true;
-        outOfPlane.planeNormal = plane.normal;
-        outOfPlane.planeCentre = plane.origin;
-        registration = registerPointToPlane(baseline.points, normals, measured, impl_->projection, samples, {},
-                                            texture.transform, outOfPlane);
-    } else {
-        // No usable texture: the shape alone, from where the object was (it moves a few pixels).
-        sampleCurrent(measured);
-        registration = registerPointToPlane(baseline.points, normals, measured, impl_->projection, samples, {}, {},
-                                            options);
+    // --- how the object moved: from the texture the ice did not change, in both eyes ---
+    const RectifiedCapture before{prepareForTracking(baseline.leftGrey), prepareForTracking(baseline.rightGrey),
+                                  baseline.disparity};
+    const RectifiedCapture after{prepareForTracking(current.leftGrey), prepareForTracking(current.rightGrey),
+                                 current.disparity};
+    TextureTrackOptions trackOptions;
+    trackOptions.patch.radiusPx = p.trackRadiusPx;
+    trackOptions.stepPx = p.trackStepPx;
+    trackOptions.temporalSearchPx = p.trackSearchPx;
+    const cv::Point2d prior = globalImageShift(baseline.leftGrey, current.leftGrey, baseline.roi);
+    const std::vector<TextureTrack> tracks =
+        trackTexture(before, after, baseline.roi, cv::Matx44d(impl_->calibration.Q), prior, trackOptions);
+    timer.lap("track");
+    MotionEvidenceOptions evidence;
+    evidence.minPairs = p.minEvidenceSamples;
+    evidence.minSupportSpanPercent = p.minSupportSpanPercent;
+    evidence.backgroundBandMm = p.backgroundBandMm;
+    const double overlap = (2.0 * p.trackRadiusPx + 1) / p.trackStepPx;
+    evidence.fit.correlationFactor = std::max(1.0, overlap * overlap);
+    const MotionEstimate motion = estimateMotion(tracks, plane, evidence);
+    for (const TextureTrack& t : tracks) {
+        if (t.state == TextureTrack::State::Unchanged) ++result.unchangedSamples;
+        if (t.state == TextureTrack::State::Changed && t.onObject) ++result.changedSamples;
     }
-    // Again, from where the object now is and without the places that look changed: sky seen
-    // where the object was, and ice, would otherwise pull the fit towards themselves.
-    const cv::Mat currentOutline = outlineInCurrent(baseline.roi, plane, registration.transform, impl_->projection,
-                                                    p.edgeMarginPx);
-    sampleCurrent(currentOutline);
-    RegistrationOptions evaluateOnly = options;
-    evaluateOnly.iterations = 0;
-    registration.residualsMm = registerPointToPlane(baseline.points, normals, measured, impl_->projection, samples, {},
-                                                    registration.transform, evaluateOnly)
-                                   .residualsMm;
-    cv::Mat residualMap((current.points.rows + step - 1) / step, (current.points.cols + step - 1) / step, CV_64F,
-                        cv::Scalar(kNaN));
-    for (std::size_t i = 0; i < samples.size(); ++i) residualMap.at<double>(samplePixels[i]) = registration.residualsMm[i];
-    const cv::Mat averaged = localMean(residualMap, std::max(2, 8 / step));
-    // Changed = the local mean residual stands out of its own noise (3 robust σ, at least
-    // change_threshold_mm). The cut is symmetric: cutting only the ice side would cut the noise's
-    // positive half too and push the whole fit forwards.
-    std::vector<double> localValues;
-    for (std::size_t i = 0; i < samples.size(); ++i) {
-        const double a = averaged.at<double>(samplePixels[i]);
-        if (!std::isnan(a)) localValues.push_back(a);
-    }
-    double localSigma = 0;
-    if (!localValues.empty()) {
-        std::vector<double> sorted = localValues;
-        const auto mid = sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2);
-        std::nth_element(sorted.begin(), mid, sorted.end());
-        const double centre = *mid;
-        for (double& v : sorted) v = std::abs(v - centre);
-        std::nth_element(sorted.begin(), mid, sorted.end());
-        localSigma = 1.4826 * *mid;
-    }
-    const double changeCut = std::max(p.changeThresholdMm, 3.0 * localSigma);
-    std::vector<std::uint8_t> unchanged(samples.size(), 0);
-    for (std::size_t i = 0; i < samples.size(); ++i) {
-        const double a = averaged.at<double>(samplePixels[i]);
-        unchanged[i] = !std::isnan(a) && std::abs(a) < changeCut;
-        if (!textureSupport.empty()) {
-            unchanged[i] = unchanged[i] && textureSupport.at<std::uint8_t>(samplePixels[i] * step);
-        }
-    }
-    RegistrationOptions finalOptions = options;
-    if (texture.ok && texture.inliers >= p.minTextureInliers) {
-        finalOptions.outOfPlaneOnly = true;
-        finalOptions.planeNormal = plane.normal;
-        finalOptions.planeCentre = plane.origin;
-    }
-    registration = registerPointToPlane(baseline.points, normals, measured, impl_->projection, samples, unchanged,
-                                        registration.transform, finalOptions);
-    const RigidTransform& transform = registration.transform;
+    result.textureInliers = motion.objectEvidence;
+    result.backgroundInliers = motion.backgroundEvidence;
+    result.registrationSource = motion.source;
+    result.supportSpanPercent = motion.supportSpanPercent;
+    timer.lap("register");
+    if (!motion.ok) return refused(result, motion.reason);
+    const RigidTransform& transform = motion.transform;
     result.registrationMm = cv::norm(transform.apply(plane.origin) - plane.origin);
     result.registrationDeg = std::acos(std::clamp((cv::trace(transform.rotation) - 1.0) / 2.0, -1.0, 1.0)) * 180.0 / kPi;
-    result.registrationRmsMm = registration.sigmaMm;
-    timer.lap("register");
-    if (!registration.converged) return refused(result, "registration did not converge");
+    result.registrationRmsMm = std::sqrt(motion.chi2PerDof);
     if (result.registrationMm > p.maxRegistrationMm) {
         return refused(result, "registration moved the object by " + std::to_string(result.registrationMm) +
                                    " mm, more than max_registration_mm");
     }
-    if (registration.sigmaMm > p.maxRegistrationRmsMm) {
-        return refused(result, "surfaces disagree after registration: residual " +
-                                   std::to_string(registration.sigmaMm) + " mm");
-    }
-    result.supportSpanPercent = supportSpanPercent(samples, unchanged, transform, plane);
-    if (result.supportSpanPercent < p.minSupportSpanPercent) {
-        std::ostringstream reason;
-        reason.precision(3);
-        reason << "the registration rests on unchanged surface spanning only " << result.supportSpanPercent
-               << " % of the object (min " << p.minSupportSpanPercent
-               << " %): its tilt would be extrapolated over the rest (ice hides the texture elsewhere)";
-        return refused(result, reason.str());
-    }
+    const cv::Mat possibleIce = iceMask(baseline.roi, tracks, motion.clean, p.trackStepPx, p.iceMaskGrowPx);
+    result.iceMaskPercent = 100.0 * cv::countNonZero(possibleIce) / std::max(1, cv::countNonZero(baseline.roi));
+    const cv::Mat currentOutline = outlineInCurrent(baseline.roi, plane, transform, impl_->projection, p.edgeMarginPx);
 
     // --- both clouds in plane coordinates; implausible current points out; k-NN filter ---
-    const double behindMm = std::max(10.0, 6.0 * registration.sigmaMm);
+    // Current points this far behind the baseline's lowest point are background, not the object.
+    const double behindMm = 10.0;
     double hMin = std::numeric_limits<double>::infinity(), hMax = -hMin;
     cv::Mat baselinePlane(baseline.points.size(), CV_64FC3, cv::Scalar::all(kNaN));
     std::vector<cv::Point3d> baselineList;
@@ -473,7 +403,7 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     cv::Mat everywhere(grid.nv, grid.nu, CV_8U, cv::Scalar(255));
     cv::Mat baselineFilled = baselineHeight.clone();
     fillFromNearest(baselineFilled, everywhere);
-    cv::Mat inside(grid.nv, grid.nu, CV_8U, cv::Scalar(0));
+    cv::Mat inside(grid.nv, grid.nu, CV_8U, cv::Scalar(0)), onIce(grid.nv, grid.nu, CV_8U, cv::Scalar(0));
     for (int j = 0; j < grid.nv; ++j)
         for (int i = 0; i < grid.nu; ++i) {
             const double h = baselineFilled.at<double>(j, i);
@@ -483,19 +413,27 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
             const int y = static_cast<int>(std::lround(image[1] / image[2]));
             if (x >= 0 && y >= 0 && x < baseline.roi.cols && y < baseline.roi.rows && baseline.roi.at<std::uint8_t>(y, x)) {
                 inside.at<std::uint8_t>(j, i) = 255;
+                if (possibleIce.at<std::uint8_t>(y, x)) onIce.at<std::uint8_t>(j, i) = 255;
             }
         }
+    // Thickness is measured where the ice may be; the surface that unchanged texture vouched for
+    // is clean (0), so neither its noise nor the registration's error there is integrated.
     cv::Mat thickness(grid.nv, grid.nu, CV_64F, cv::Scalar(kNaN));
-    int insideCount = 0;
+    int insideCount = 0, iceCount = 0;
     for (int j = 0; j < grid.nv; ++j)
         for (int i = 0; i < grid.nu; ++i) {
             if (!inside.at<std::uint8_t>(j, i)) continue;
             ++insideCount;
+            if (!onIce.at<std::uint8_t>(j, i)) {
+                thickness.at<double>(j, i) = 0.0;
+                continue;
+            }
+            ++iceCount;
             thickness.at<double>(j, i) = currentHeight.at<double>(j, i) - baselineHeight.at<double>(j, i);
         }
     if (insideCount == 0) return refused(result, "the region covers no part of the measured surface");
-    const int filled = fillFromNearest(thickness, inside);
-    result.filledPercent = 100.0 * filled / insideCount;
+    const int filled = fillFromNearest(thickness, onIce);
+    result.filledPercent = 100.0 * filled / std::max(1, iceCount);
     timer.lap("grid");
     if (result.filledPercent > p.maxFilledPercent) {
         std::ostringstream reason;
@@ -507,6 +445,7 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     // --- integrate ---
     result.volumeMm3 = integrate(thickness, grid, p.integration);
     result.areaMm2 = insideCount * grid.areaPerNodeMm2();
+    result.iceAreaMm2 = iceCount * grid.areaPerNodeMm2();
     result.meanThicknessMm = result.volumeMm3 / result.areaMm2;
     const cv::Mat smoothThickness = localMean(thickness, 2);
     double maxT = 0;
@@ -521,24 +460,36 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     // --- uncertainty ---
     const double depthPerPxMm = depthMm * depthMm / (impl_->focalPx * impl_->baselineMm);  // ΔZ of 1 px
     const double pixelMm = depthMm / impl_->focalPx;
-    const double pointSigmaMm = std::max(std::sqrt(2.0) * depthPerPxMm * p.disparityNoisePx, registration.sigmaMm);
-    const double independent = std::max(1.0, result.pointsUsed / double(p.correlationPx * p.correlationPx));
-    result.budget.noiseMm3 = result.areaMm2 * pointSigmaMm / std::sqrt(independent);
-    // The registration's covariance, its residuals correlated over the matcher's window.
-    const double correlatedSamples = std::max(1.0, double(p.correlationPx) / step);
+    const double pointSigmaMm = std::sqrt(2.0) * depthPerPxMm * p.disparityNoisePx;
+    // Independent samples on the ice: the pixels there, the matcher's errors correlated over its window.
+    const double icePixels = result.iceAreaMm2 / (pixelMm * pixelMm);
+    const double independent = std::max(1.0, icePixels / double(p.correlationPx * p.correlationPx));
+    result.budget.noiseMm3 = result.iceAreaMm2 * pointSigmaMm / std::sqrt(independent);
+    // The registration's covariance, carried through the thickness on the ice.
     cv::Vec6d gradient(0, 0, 0, 0, 0, 0);
     for (int j = 0; j < grid.nv; ++j)
         for (int i = 0; i < grid.nu; ++i) {
-            if (!inside.at<std::uint8_t>(j, i)) continue;
+            if (!onIce.at<std::uint8_t>(j, i)) continue;
             const double h = baselineFilled.at<double>(j, i);
             const cv::Vec3d node = plane.toCamera(grid.u0 + i * grid.du, grid.v0 + j * grid.dv, std::isnan(h) ? 0.0 : h);
             const cv::Vec3d c = node.cross(plane.normal);
             const cv::Vec6d g(c[0], c[1], c[2], plane.normal[0], plane.normal[1], plane.normal[2]);
             gradient += g * grid.areaPerNodeMm2();
         }
-    const cv::Matx66d covariance = registration.covariance * (correlatedSamples * correlatedSamples);
-    result.budget.registrationMm3 = std::sqrt(std::max(0.0, (gradient.t() * covariance * gradient)(0)));
-    result.budget.biasMm3 = p.subpixelBiasPx * depthPerPxMm * result.areaMm2;
+    // The larger of the covariance's word and the jackknife's: a motion leaning on one end of the
+    // object, or on evidence that is not quite rigid, shows in how it moves when a band of the
+    // evidence is left out, not in its covariance.
+    double jackknifeVariance = 0;
+    for (const cv::Vec6d& delta : motion.jackknife) {
+        const double dv = gradient.dot(delta);
+        jackknifeVariance += dv * dv;
+    }
+    if (!motion.jackknife.empty()) {
+        const double groups = static_cast<double>(motion.jackknife.size());
+        jackknifeVariance *= (groups - 1.0) / groups;
+    }
+    result.budget.registrationMm3 = std::max(propagate(gradient, motion.covariance), std::sqrt(jackknifeVariance));
+    result.budget.biasMm3 = p.subpixelBiasPx * depthPerPxMm * result.iceAreaMm2;
     // Edges: a shift of σ_e of every edge of height H and length L moves σ_e·H·L, i.e. σ_e·∫|∇t|.
     // The noise floor of |∇t| (its median) is taken off so that noise does not pass for edges.
     const cv::Mat smoothed = localMean(thickness, 3);

@@ -22,7 +22,8 @@ using Timings = std::vector<std::pair<std::string, double>>;
 
 // One capture measured: everything estimate() needs, so the daemon can keep the baseline's.
 struct Surface {
-    cv::Mat rectifiedLeft;  // CV_8U grey, rectified left eye
+    cv::Mat rectifiedLeft;  // CV_8U grey, rectified left eye (for people and the image checks)
+    cv::Mat leftGrey, rightGrey;  // CV_32F grey, rectified, as measured (an averaged capture keeps its fraction)
     cv::Mat disparity;      // CV_32F, px, stereo::kInvalidDisparity where none
     cv::Mat points;         // CV_32FC3, mm, left rectified camera frame, NaN where none
     cv::Mat roi;            // CV_8U, 255 inside the object's outline (rectified left pixels)
@@ -53,8 +54,14 @@ struct VolumeResult {
     double registrationMm = 0;   // how far the current capture moved the region's centre
     double registrationDeg = 0;  // and turned
     double registrationRmsMm = 0;
-    int textureInliers = 0;      // texture matches that agreed on the first rigid fit (0: shape only)
+    int textureInliers = 0;      // unchanged object texture samples the registration agrees with
+    int backgroundInliers = 0;   // unchanged background samples it rests on (0: the object alone)
+    std::string registrationSource;  // "object", "background", "object+background"
+    int unchangedSamples = 0;    // texture samples found again unchanged (object and background)
+    int changedSamples = 0;      // object samples found again with a changed look (ice)
     double supportSpanPercent = 0;  // extent of the unchanged surface the registration rests on
+    double iceAreaMm2 = 0;       // where thickness was measured: possible ice, grown by the matcher's reach
+    double iceMaskPercent = 0;   // of the region
     Timings timingsMs;
 
     // For people: false-colour disparity (current), thickness map, current cloud in the

@@ -25,24 +25,20 @@ struct Parameters {
     int edgeMarginPx = 3;             // points this close to the outline are not measured (mixed depths)
     double segmentationBandMm = 150;  // segmentation: depth band around the dominant depth
 
-    // --- registration (current capture onto the baseline) ---
-    int icpIterations = 50;
-    double icpConvergenceMm = 0.02;   // stop when an update moves the surface less than this
-    int icpSampleStep = 2;            // use every n-th pixel in x and y
-    double icpTrimSigma = 3.0;        // residuals beyond this many robust sigmas are left out
-    double icpSettledMm = 0.2;        // a fit whose last update moved less than this counts as converged
-                                      // (a weakly constrained direction may jitter by noise)
-    double textureInlierMm = 2.0;     // texture matches in the object plane: inlier distance of the in-plane fit
-    int minTextureInliers = 100;      // fewer: register on the shape alone (a few dozen matches fix a turn worse than shape)
-    int textureSupportPx = 20;        // the shape fit's out-of-plane motion uses points this near a texture inlier
-    double changeThresholdMm = 0.8;   // locally averaged thickness above this = changed (ice), not used
-                                      // to register
+    // --- registration (current capture onto the baseline, from unchanged texture) ---
+    int trackRadiusPx = 12;           // texture patches are (2r+1)² pixels
+    int trackStepPx = 12;             // one texture sample every this many pixels
+    int trackSearchPx = 8;            // how far a patch may move between the captures beyond the global shift
+    int minEvidenceSamples = 12;      // unchanged texture samples a motion may rest on
+    double backgroundBandMm = 400;    // background within this depth of the object may hold it (a table, a rig)
     double maxRegistrationMm = 30;    // a larger movement is refused (the camera or blade moved)
-    double maxRegistrationRmsMm = 6;  // surfaces that do not agree better than this are refused
-    // The unchanged surface that fixed the registration must span at least this share of the
-    // object along both of its in-plane axes (tenths of its extent where the support holds a
-    // third of the samples), else the tilt is an extrapolation and the measurement is refused.
-    double minSupportSpanPercent = 50;
+    // The unchanged object texture that fixed the registration must span at least this share of
+    // the object along both of its in-plane axes (tenths of its extent where the support holds a
+    // third of the samples), unless a background it rests on fixes it.
+    double minSupportSpanPercent = 25;
+    // The possible-ice mask grows by this much around what texture could not vouch for: the
+    // matcher's cross arms spread disparity about this far, and the ice's volume with it.
+    int iceMaskGrowPx = 40;
 
     // --- outlier filter (the seed paper, section 2.2) ---
     int knnK = 8;             // neighbours in the plane

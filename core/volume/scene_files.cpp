@@ -44,23 +44,37 @@ void writeImage(const std::filesystem::path& path, const cv::Mat& image) {
 
 }  // namespace
 
-SceneFiles loadSceneDirectory(const std::filesystem::path& dir) {
+SceneFiles loadSceneDirectory(const std::filesystem::path& dir, const RecordingReader& readRecording) {
     if (!std::filesystem::is_directory(dir)) {
         throw Error(kExitNoInput, dir.string() + ": scene directory not found");
     }
     SceneFiles scene;
     scene.calibration = calib::loadCalibration(dir / "calibration.yaml");
-    scene.before = readFrame(dir / "before.png");
-    scene.after = readFrame(dir / "after.png");
     const cv::Size expected(2 * scene.calibration.imageSize.width, scene.calibration.imageSize.height);
-    for (const auto& [name, frame] : {std::pair{"before.png", &scene.before}, std::pair{"after.png", &scene.after}}) {
-        if (frame->size() != expected) {
-            throw Error(kExitDataErr, (dir / name).string() + ": frame is " + sizeText(frame->size()) +
-                                          ", but calibration.yaml describes eyes of " +
-                                          sizeText(scene.calibration.imageSize) + " (a side-by-side frame of " +
-                                          sizeText(expected) + ")");
+    auto readCapture = [&](const std::string& name) {
+        CaptureFiles capture;
+        const auto recording = dir / name;
+        if (std::filesystem::is_directory(recording)) {
+            if (!readRecording) throw Error(kExitUsage, recording.string() + ": recordings cannot be read here");
+            capture = readRecording(recording);
+            if (capture.frames.empty()) throw Error(kExitDataErr, recording.string() + ": no frames");
+        } else {
+            const auto single = dir / (name + ".png");
+            capture.frames.push_back(readFrame(single));
+            capture.names.push_back(single.string());
         }
-    }
+        for (std::size_t i = 0; i < capture.frames.size(); ++i) {
+            if (capture.frames[i].size() != expected) {
+                throw Error(kExitDataErr, capture.names[i] + ": frame is " + sizeText(capture.frames[i].size()) +
+                                              ", but calibration.yaml describes eyes of " +
+                                              sizeText(scene.calibration.imageSize) + " (a side-by-side frame of " +
+                                              sizeText(expected) + ")");
+            }
+        }
+        return capture;
+    };
+    scene.before = readCapture("before");
+    scene.after = readCapture("after");
     if (std::filesystem::exists(dir / "roi.json")) {
         scene.roi = loadRoiPolygon(dir / "roi.json");
     }

@@ -13,13 +13,9 @@ namespace {
 
 using gpio::LineTransition;
 
-ChainResult volumeEachCall(int call, const std::vector<double>& perCycle, int burst) {
-    return okResult(perCycle[static_cast<std::size_t>((call - 1) / burst)]);
-}
-
 TEST(Daemon, LatestJsonCarriesEveryField) {
     Rig rig({}, icewatch::test::freshTempDir(), [](ScriptedChain& c) {
-        c.script = [](int call, const StereoPair&) { return okResult(std::vector{1000.0, 1100.0, 1300.0}[call - 1], 10.0, call); };
+        c.script = [](int call, const StereoPair&) { return okResult(1000.0 * call, 10.0, 2.0 * call); };
     });
     ASSERT_TRUE(rig.daemon->runOnce());
     const nlohmann::json doc = rig.latestFile();
@@ -28,9 +24,9 @@ TEST(Daemon, LatestJsonCarriesEveryField) {
     EXPECT_EQ(doc["time"], "2026-01-01T00:00:00Z");
     EXPECT_EQ(doc["status"], "ok");
     EXPECT_TRUE(doc["reason"].is_null());
-    EXPECT_DOUBLE_EQ(doc["volume_mm3"].get<double>(), 1100.0);  // the median of the burst
-    // Per-frame 10 mm³ and the burst's spread (1.4826 x MAD = 1.4826 x 100) in quadrature.
-    EXPECT_NEAR(doc["uncertainty_mm3"].get<double>(), std::hypot(10.0, 148.26), 1e-9);
+    EXPECT_DOUBLE_EQ(doc["volume_mm3"].get<double>(), 1000.0);  // the burst's average, measured once
+    EXPECT_DOUBLE_EQ(doc["uncertainty_mm3"].get<double>(), 10.0);
+    EXPECT_EQ(rig.chain->calls, 1);
     EXPECT_DOUBLE_EQ(doc["mean_thickness_mm"].get<double>(), 2.0);
     EXPECT_DOUBLE_EQ(doc["max_thickness_mm"].get<double>(), 6.0);
     EXPECT_DOUBLE_EQ(doc["valid_percent"].get<double>(), 90.0);
@@ -40,7 +36,7 @@ TEST(Daemon, LatestJsonCarriesEveryField) {
     EXPECT_EQ(doc["quality"]["frames_healthy"], 3);
     EXPECT_EQ(doc["quality"]["frames_measured"], 3);
     EXPECT_TRUE(doc["quality"]["flags"].empty());
-    for (const char* stage : {"grab", "health", "measure", "total", "chain_match", "chain_integrate"}) {
+    for (const char* stage : {"grab", "average", "measure", "total", "chain_match", "chain_integrate"}) {
         EXPECT_TRUE(doc["timings_ms"].contains(stage)) << stage;
     }
     EXPECT_EQ(doc["version"], "test-version");
@@ -72,7 +68,7 @@ TEST(Daemon, ADayOfTenMinuteCyclesInHistory) {
     EXPECT_EQ(rows.front()["time"], "2026-01-01T00:00:00Z");
     EXPECT_EQ(rows[1]["time"], "2026-01-01T00:10:00Z");
     EXPECT_EQ(rows.back()["time"], "2026-01-01T23:50:00Z");
-    EXPECT_EQ(rig.chain->calls, 144 * 3);
+    EXPECT_EQ(rig.chain->calls, 144) << "one averaged capture measured per cycle";
     for (const auto& row : rows) {
         EXPECT_EQ(row["status"], "ok");
         EXPECT_EQ(row["alarm"], "none");
@@ -104,7 +100,7 @@ TEST(Daemon, GpioFollowsAnIceSeriesWithHysteresis) {
     const std::vector<std::string> levels{"none",  "none",  "warning", "warning", "alarm", "alarm",
                                           "alarm", "warning", "warning", "none",  "none"};
     Rig rig({}, icewatch::test::freshTempDir(), [&](ScriptedChain& c) {
-        c.script = [&](int call, const StereoPair&) { return volumeEachCall(call, series, 3); };
+        c.script = [&](int call, const StereoPair&) { return okResult(series[static_cast<std::size_t>(call - 1)]); };
     });
     auto closed = std::make_shared<bool>(false);
     rig.source->closedOutside = closed;
@@ -178,16 +174,16 @@ TEST(Daemon, CameraVanishingBetweenCyclesIsAFaultWithinACheck) {
 TEST(Daemon, RefusedResultsDoNotMoveTheAlarm) {
     Rig rig({}, icewatch::test::freshTempDir(), [](ScriptedChain& c) {
         c.script = [](int call, const StereoPair&) {
-            return call <= 3 ? okResult(120.0) : refusedResult("12 % valid disparities in the region, 40 % needed");
+            return call <= 1 ? okResult(120.0) : refusedResult("12 % valid disparities in the region, 40 % needed");
         };
     });
     rig.daemon->runUntil(rig.at(601));
     nlohmann::json doc = rig.latestFile();
     EXPECT_EQ(doc["status"], "refused");
     EXPECT_EQ(doc["alarm"], "warning");
-    EXPECT_EQ(doc["reason"], "0 of 3 healthy frames measured, 2 needed: 12 % valid disparities in the region, 40 % needed");
-    EXPECT_EQ(doc["quality"]["flags"].size(), 3u);
-    EXPECT_EQ(doc["quality"]["flags"][0]["flag"], "refused");
+    EXPECT_EQ(doc["reason"], "12 % valid disparities in the region, 40 % needed");
+    EXPECT_TRUE(doc["quality"]["flags"].empty());
+    EXPECT_EQ(doc["quality"]["frames_measured"], 3);
 
     rig.source->frame = [](int) { return texturedPair(0.1); };  // night
     rig.daemon->runUntil(rig.at(1201));
@@ -196,12 +192,13 @@ TEST(Daemon, RefusedResultsDoNotMoveTheAlarm) {
     EXPECT_EQ(doc["alarm"], "warning");
     EXPECT_EQ(doc["camera"], "degraded");
     EXPECT_EQ(doc["quality"]["frames_healthy"], 0);
-    EXPECT_NE(doc["reason"].get<std::string>().find("0 of 3 frames passed the image-health check ("),
+    EXPECT_NE(doc["reason"].get<std::string>().find("the burst gave no capture: 0 usable frames of 3 (2 needed)"),
               std::string::npos)
         << doc["reason"];
-    EXPECT_NE(doc["reason"].get<std::string>().find("dark x6"), std::string::npos) << doc["reason"];
+    EXPECT_EQ(doc["quality"]["flags"].size(), 3u);
     EXPECT_EQ(doc["quality"]["flags"][0]["flag"], "dark");
-    EXPECT_NE(doc["quality"]["flags"][0]["reason"].get<std::string>().find("frame 1 left: mean level"), std::string::npos);
+    EXPECT_NE(doc["quality"]["flags"][0]["reason"].get<std::string>().find("frame 1: left eye: mean level"),
+              std::string::npos);
     EXPECT_EQ(rig.transitions(), (std::vector<LineTransition>{{"alarm", true}, {"healthy", true}}));
 }
 
@@ -215,7 +212,9 @@ TEST(Daemon, OneBadFrameIsDroppedAndTheRestMeasured) {
     EXPECT_EQ(doc["status"], "ok");
     EXPECT_EQ(doc["camera"], "degraded");
     EXPECT_EQ(doc["quality"]["frames_healthy"], 2);
-    EXPECT_EQ(rig.chain->calls, 2);
+    EXPECT_EQ(doc["quality"]["frames_measured"], 2);
+    EXPECT_EQ(doc["quality"]["flags"][0]["flag"], "dark");
+    EXPECT_EQ(rig.chain->calls, 1) << "the two good frames are averaged and measured once";
 }
 
 TEST(Daemon, MeasurementFailureIsAFault) {
@@ -279,14 +278,15 @@ TEST(Daemon, BaselineCaptureRefusesADarkScene) {
     rig.daemon->runUntil(rig.at(1));
     const auto capture = rig.daemon->health()["last_baseline_capture"];
     EXPECT_FALSE(capture["ok"].get<bool>());
-    EXPECT_NE(capture["reason"].get<std::string>().find("no frame of the burst passed the image-health check"),
-              std::string::npos);
+    EXPECT_NE(capture["reason"].get<std::string>().find("the burst gave no clean capture: 0 usable frames"),
+              std::string::npos)
+        << capture["reason"];
     EXPECT_FALSE(std::filesystem::exists(rig.dir / "baseline" / "baseline.json"));
 }
 
 TEST(Daemon, LatchedAlarmNeedsAReset) {
     Rig rig([](config::Config& c) { c.alarm.latch = true; }, icewatch::test::freshTempDir(), [](ScriptedChain& c) {
-        c.script = [](int call, const StereoPair&) { return okResult(call <= 3 ? 250.0 : 10.0); };
+        c.script = [](int call, const StereoPair&) { return okResult(call <= 1 ? 250.0 : 10.0); };
     });
     rig.daemon->runUntil(rig.at(601));
     EXPECT_EQ(rig.latestFile()["alarm"], "alarm");

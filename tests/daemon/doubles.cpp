@@ -61,7 +61,7 @@ ChainResult ScriptedChain::estimate(const StereoPair& current) {
     }
     ChainResult r = script ? script(calls, current) : okResult(1000.0);
     if (r.status == ChainResult::Status::Ok && r.pictures.left.empty()) {
-        r.pictures.left = current.left;
+        current.left.convertTo(r.pictures.left, CV_8U);  // an averaged capture is float
         r.pictures.disparity = cv::Mat(current.left.size(), CV_8UC3, cv::Scalar(255, 0, 0));
         r.pictures.thickness = cv::Mat(current.left.size(), CV_8UC3, cv::Scalar(0, 0, 255));
     }

@@ -79,8 +79,11 @@ TEST(EndToEnd, RecordingThroughTheFakeCameraWithAnUnplugMidBurst) {
     ASSERT_EQ(first["status"], "ok") << first.dump(2);
     const double volume = first["volume_mm3"].get<double>();
     const double uncertainty = first["uncertainty_mm3"].get<double>();
-    EXPECT_LT(std::abs(volume - scene.iceVolumeMm3), 0.10 * scene.iceVolumeMm3)
+    // One rendered frame replayed (no averaging gain) at a third of the camera's resolution: the
+    // uncertainty must cover the error.
+    EXPECT_LT(std::abs(volume - scene.iceVolumeMm3), uncertainty)
         << "measured " << volume << " ± " << uncertainty << ", truth " << scene.iceVolumeMm3;
+    EXPECT_LT(std::abs(volume - scene.iceVolumeMm3), 0.25 * scene.iceVolumeMm3);
     EXPECT_EQ(first["alarm"], "warning");
     EXPECT_EQ(first["camera"], "ok");
 

@@ -21,16 +21,11 @@
 #include "core/synth/disparity_floor.hpp"
 #include "core/volume/scene_files.hpp"
 #include "tools/icewatch/command.hpp"
+#include "tools/icewatch/scene_recordings.hpp"
 
 namespace icewatch::cli {
 
 namespace {
-
-cv::Mat grey(const cv::Mat& image) {
-    cv::Mat out;
-    cv::cvtColor(image, out, cv::COLOR_BGR2GRAY);
-    return out;
-}
 
 // The truth maps are in the left eye's own pixels, which are the rectified ones only when the
 // calibration has no distortion and no rectifying turn (as every rendered scene's has).
@@ -101,7 +96,7 @@ void addFloorCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
     cmd->callback([&run, o] {
         run = [o] {
             const std::filesystem::path dir = o->scene;
-            const volume::SceneFiles scene = volume::loadSceneDirectory(dir);
+            const volume::SceneFiles scene = volume::loadSceneDirectory(dir, readCaptureRecording);
             requireIdealCalibration(scene.calibration, dir / "calibration.yaml");
             const cv::Size eye = scene.calibration.imageSize;
             const cv::Mat truthBefore = readTruthMap(dir / "truth_disparity_before.pfm", eye);
@@ -120,11 +115,12 @@ void addFloorCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
                 truthVolume = truth["ice_volume_mm3"].get<double>();
             }
 
-            const StereoPair before = splitSideBySide(scene.before), after = splitSideBySide(scene.after);
-            const synth::DisparityFloor fb =
-                synth::measureDisparityFloor(grey(before.left), grey(before.right), truthBefore, o->boxPx);
-            const synth::DisparityFloor fa =
-                synth::measureDisparityFloor(grey(after.left), grey(after.right), truthAfter, o->boxPx);
+            // The captures as the chain measures them: averaged in floating point.
+            const config::ImageHealthConfig health;
+            const StereoPair before = splitSideBySide(averageSceneCapture(scene.before, health).frame);
+            const StereoPair after = splitSideBySide(averageSceneCapture(scene.after, health).frame);
+            const synth::DisparityFloor fb = synth::measureDisparityFloor(before.left, before.right, truthBefore, o->boxPx);
+            const synth::DisparityFloor fa = synth::measureDisparityFloor(after.left, after.right, truthAfter, o->boxPx);
             if (fb.boxes < 2 || fa.boxes < 2) {
                 throw Error(kExitDataErr, dir.string() + ": the object holds fewer than two whole " +
                                               std::to_string(o->boxPx) + " px boxes; try a smaller --box");

@@ -7,9 +7,12 @@
 
 #include "core/common/error.hpp"
 #include "core/config/config.hpp"
+#include "core/common/side_by_side.hpp"
+#include "core/volume/capture_average.hpp"
 #include "core/volume/chain.hpp"
 #include "core/volume/scene_files.hpp"
 #include "tools/icewatch/command.hpp"
+#include "tools/icewatch/scene_recordings.hpp"
 
 namespace icewatch::cli {
 
@@ -26,6 +29,12 @@ nlohmann::json timingsJson(const volume::Timings& timings) {
     return out;
 }
 
+nlohmann::json captureJson(const volume::AveragedCapture& capture) {
+    nlohmann::json dropped = nlohmann::json::array();
+    for (const auto& d : capture.dropped) dropped.push_back(d.reason);
+    return {{"frames_used", capture.framesUsed}, {"frames_dropped", dropped}};
+}
+
 }  // namespace
 
 void addVolumeCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction& run) {
@@ -39,7 +48,7 @@ void addVolumeCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunctio
         bool json = false;
     };
     auto o = std::make_shared<Options>();
-    cmd->add_option("--scene", o->scene, "directory with calibration.yaml, before.png, after.png [, roi.json]")
+    cmd->add_option("--scene", o->scene, "directory with calibration.yaml, before.png or before/ (a recording), after.png or after/ [, roi.json]")
         ->required();
     cmd->add_option("--method", o->method, "integration: trapz (default) or sum")->check(CLI::IsMember({"trapz", "sum"}));
     cmd->add_option("--stereo-method", o->stereoMethod, "matcher: paper, adcensus or sgbm (default: configuration)");
@@ -61,7 +70,7 @@ void addVolumeCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunctio
                     throw Error(kExitUsage, std::string("--stereo-method: ") + e.what());
                 }
             }
-            const volume::SceneFiles scene = volume::loadSceneDirectory(o->scene);
+            const volume::SceneFiles scene = volume::loadSceneDirectory(o->scene, readCaptureRecording);
             if (scene.roi) {
                 parameters.roiPolygon.clear();
                 for (const auto& p : *scene.roi) {
@@ -71,8 +80,10 @@ void addVolumeCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunctio
             }
             volume::VolumeChain chain(scene.calibration, parameters, [] { return std::chrono::steady_clock::now(); },
                                       configuration.stereo);
-            const volume::Surface baseline = chain.measureSurface(scene.before);
-            const volume::Surface current = chain.measureSurface(scene.after);
+            const volume::AveragedCapture before = averageSceneCapture(scene.before, configuration.daemon.health);
+            const volume::AveragedCapture after = averageSceneCapture(scene.after, configuration.daemon.health);
+            const volume::Surface baseline = chain.measureSurface(before.frame);
+            const volume::Surface current = chain.measureSurface(after.frame);
             const volume::VolumeResult r = chain.estimate(baseline, current);
             if (!o->debugDir.empty() && r.ok) {
                 volume::writeDebugOutput(r, o->debugDir);
@@ -94,8 +105,14 @@ void addVolumeCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunctio
                                {"registration_mm", r.registrationMm},
                                {"registration_deg", r.registrationDeg},
                                {"registration_rms_mm", r.registrationRmsMm},
+                               {"registration_source", r.registrationSource},
                                {"texture_inliers", r.textureInliers},
+                               {"background_inliers", r.backgroundInliers},
+                               {"unchanged_samples", r.unchangedSamples},
+                               {"changed_samples", r.changedSamples},
                                {"registration_support_percent", r.supportSpanPercent},
+                               {"baseline_capture", captureJson(before)},
+                               {"current_capture", captureJson(after)},
                                {"timings_ms", timings}};
             if (r.ok) {
                 out["volume_mm3"] = r.volumeMm3;
@@ -107,6 +124,8 @@ void addVolumeCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunctio
                 out["mean_thickness_mm"] = r.meanThicknessMm;
                 out["max_thickness_mm"] = r.maxThicknessMm;
                 out["area_mm2"] = r.areaMm2;
+                out["ice_area_mm2"] = r.iceAreaMm2;
+                out["ice_mask_percent"] = r.iceMaskPercent;
                 out["filled_percent"] = r.filledPercent;
             } else {
                 out["reason"] = r.reason;

@@ -111,13 +111,14 @@ TEST(Config, ShippedFileDocumentsTheDefaults) {
     EXPECT_EQ(v.roiPolygon, d.roiPolygon);
     EXPECT_EQ(v.edgeMarginPx, d.edgeMarginPx);
     EXPECT_EQ(v.segmentationBandMm, d.segmentationBandMm);
-    EXPECT_EQ(v.icpIterations, d.icpIterations);
-    EXPECT_EQ(v.icpConvergenceMm, d.icpConvergenceMm);
-    EXPECT_EQ(v.icpSampleStep, d.icpSampleStep);
-    EXPECT_EQ(v.icpTrimSigma, d.icpTrimSigma);
-    EXPECT_EQ(v.changeThresholdMm, d.changeThresholdMm);
+    EXPECT_EQ(v.trackRadiusPx, d.trackRadiusPx);
+    EXPECT_EQ(v.trackStepPx, d.trackStepPx);
+    EXPECT_EQ(v.trackSearchPx, d.trackSearchPx);
+    EXPECT_EQ(v.minEvidenceSamples, d.minEvidenceSamples);
+    EXPECT_EQ(v.backgroundBandMm, d.backgroundBandMm);
     EXPECT_EQ(v.maxRegistrationMm, d.maxRegistrationMm);
-    EXPECT_EQ(v.maxRegistrationRmsMm, d.maxRegistrationRmsMm);
+    EXPECT_EQ(v.minSupportSpanPercent, d.minSupportSpanPercent);
+    EXPECT_EQ(v.iceMaskGrowPx, d.iceMaskGrowPx);
     EXPECT_EQ(v.knnK, d.knnK);
     EXPECT_EQ(v.knnTheta, d.knnTheta);
     EXPECT_EQ(v.gridCellMm, d.gridCellMm);
@@ -179,7 +180,7 @@ TEST(Config, DaemonSectionsAreValidated) {
     EXPECT_EQ(errorOf(R"({"alarm": {"metric": "mass"}})"),
               "test.json: alarm.metric: must be one of mean_thickness_mm, volume_mm3, got \"mass\"");
     EXPECT_EQ(errorOf(R"({"daemon": {"burst_frames": 2, "min_frames": 3}})"),
-              "test.json: daemon.min_frames: must not exceed burst_frames");
+              "test.json: daemon.min_frames: must not exceed burst_frames or baseline_frames");
     EXPECT_EQ(errorOf(R"({"daemon": {"health": {"min_contrast": -1}}})"),
               "test.json: daemon.health.min_contrast: must be between 0.0 and 255.0, got -1");
     EXPECT_EQ(errorOf(R"({"gpio": {"alarm_line": 3, "healthy_line": 3}})"),

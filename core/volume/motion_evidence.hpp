@@ -1,0 +1,62 @@
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/volume/height_grid.hpp"
+#include "core/volume/rigid_motion.hpp"
+#include "core/volume/texture_tracks.hpp"
+
+namespace icewatch::volume {
+
+struct MotionEvidenceOptions {
+    RigidMotionOptions fit;
+    int minPairs = 12;                 // unchanged samples a motion may rest on
+    double minSupportSpanPercent = 25; // of the object's extent along both in-plane axes (registration.hpp)
+    // A background sample is a surface the object may be fixed to (a table, a rig): within this
+    // depth of the object's plane. Farther ones (a distant wall) say how the camera moved, not
+    // whether the object moved against them, and are not used.
+    double backgroundBandMm = 400;
+    // The object's samples agree with a motion when at least this share of them are its inliers.
+    double agreeShare = 0.7;
+    int jackknifeGroups = 6;
+};
+
+// How the object moved between the captures, and from what evidence.
+struct MotionEstimate {
+    bool ok = false;
+    std::string reason;          // why the motion is not observable
+    std::string source;          // "object", "background", "object+background"
+    RigidTransform transform;    // current -> baseline
+    cv::Matx66d covariance = cv::Matx66d::zeros();
+    int objectEvidence = 0;      // unchanged object samples the motion agrees with
+    int backgroundEvidence = 0;  // unchanged background samples it rests on
+    double supportSpanPercent = 0;
+    double chi2PerDof = 0;
+    // Per track: the sample is unchanged and moved as the object did (clean surface). Object
+    // samples that are not are where the ice may be.
+    std::vector<std::uint8_t> clean;
+    // The motion refitted without each of `jackknifeGroups` bands of the evidence along the
+    // object's long axis, as left perturbations of `transform` (rotation vector, translation):
+    // their spread shows what the covariance does not, a motion leaning on one end of the object
+    // or on evidence that is not quite rigid.
+    std::vector<cv::Vec6d> jackknife;
+};
+
+// Ice only adds material on the side facing the camera and changes or hides the texture it
+// covers; so the motion is taken only from texture that was found again unchanged, in both eyes
+// (texture_tracks.hpp), on the object and on a background it may be fixed to:
+//   - the object's own unchanged texture, when it spans enough of the object (a tilt fitted on a
+//     patch at one end would be extrapolated over the rest);
+//   - the background's, when the object's samples move with it (they then share one fit) or when
+//     the object has too little unchanged texture but what it has moves with the background;
+//   - when the object's unchanged texture and its background disagree, the object moved against
+//     its background unless its samples, seen with the background's motion, only rose along the
+//     object's normal: that is what a clear layer of ice that kept the texture looks like, and the
+//     background is taken.
+// Not observable (refused with the reason): too little unchanged texture on the object and no
+// background it moves with.
+MotionEstimate estimateMotion(const std::vector<TextureTrack>& tracks, const PlaneFrame& plane,
+                              const MotionEvidenceOptions& options = {});
+
+}  // namespace icewatch::volume

@@ -1,0 +1,158 @@
+// Robust, covariance-weighted rigid fit of point pairs (rigid_motion.hpp).
+#include "core/volume/rigid_motion.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include <Eigen/Geometry>
+#include <opencv2/calib3d.hpp>
+
+#include "core/common/error.hpp"
+
+namespace icewatch::volume {
+
+namespace {
+
+// The displacement is measured in the camera frame; rotating the current point rotates its error
+// too, but the motions here are fractions of a degree: the covariance is used as it is.
+cv::Matx33d pairCovariance(const PointPair& pair, const RigidMotionOptions& o) {
+    return (pair.covarianceMm2 + cv::Matx33d::eye() * (o.modelNoiseMm * o.modelNoiseMm)) * o.covarianceScale;
+}
+
+
+cv::Matx33d skew(const cv::Vec3d& v) { return {0, -v[2], v[1], v[2], 0, -v[0], -v[1], v[0], 0}; }
+
+}  // namespace
+
+RigidTransform fitRigid(const std::vector<cv::Vec3d>& from, const std::vector<cv::Vec3d>& to) {
+    if (from.size() != to.size() || from.size() < 3) {
+        throw InvalidInput("rigid fit: needs at least 3 point pairs");
+    }
+    Eigen::Matrix3Xd a(3, static_cast<Eigen::Index>(from.size())), b(3, static_cast<Eigen::Index>(to.size()));
+    for (std::size_t i = 0; i < from.size(); ++i) {
+        const auto c = static_cast<Eigen::Index>(i);
+        a.col(c) << from[i][0], from[i][1], from[i][2];
+        b.col(c) << to[i][0], to[i][1], to[i][2];
+    }
+    const Eigen::Matrix4d m = Eigen::umeyama(a, b, false);
+    if (!m.allFinite()) throw InvalidInput("rigid fit: degenerate point pairs");
+    RigidTransform t;
+    for (int r = 0; r < 3; ++r) {
+        for (int c = 0; c < 3; ++c) t.rotation(r, c) = m(r, c);
+        t.translation[r] = m(r, 3);
+    }
+    return t;
+}
+
+double pairChi2(const PointPair& pair, const RigidTransform& transform, const RigidMotionOptions& o) {
+    const cv::Vec3d r = transform.apply(pair.current) - pair.baseline;
+    return (r.t() * pairCovariance(pair, o).inv(cv::DECOMP_CHOLESKY) * r)(0);
+}
+
+bool pairAgrees(const PointPair& pair, const RigidTransform& transform, const RigidMotionOptions& o) {
+    const cv::Vec3d r = transform.apply(pair.current) - pair.baseline;
+    const cv::Matx33d c = pairCovariance(pair, o);
+    if ((r.t() * c.inv(cv::DECOMP_CHOLESKY) * r)(0) >= o.inlierChi2) return false;
+    if (cv::norm(o.riseAxis) == 0) return true;
+    const double sigma = std::sqrt((o.riseAxis.t() * c * o.riseAxis)(0));
+    return r.dot(o.riseAxis) <= o.riseSigmas * sigma;
+}
+
+double propagate(const cv::Vec6d& gradient, const cv::Matx66d& covariance) {
+    return std::sqrt(std::max(0.0, (gradient.t() * covariance * gradient)(0)));
+}
+
+RigidMotion fitRigidMotion(const std::vector<PointPair>& pairs, const RigidMotionOptions& options, int minPairs) {
+    RigidMotionOptions o = options;
+    RigidMotion best;
+    const int n = static_cast<int>(pairs.size());
+    if (n < std::max(3, minPairs)) return best;
+    // RANSAC for the consensus.
+    std::mt19937 random(o.seed);
+    std::uniform_int_distribution<int> pick(0, n - 1);
+    int bestCount = -1;
+    RigidTransform bestTransform;
+    for (int k = 0; k < o.ransacIterations; ++k) {
+        const int a = pick(random), b = pick(random), c = pick(random);
+        if (a == b || b == c || a == c) continue;
+        const cv::Vec3d ab = pairs[b].baseline - pairs[a].baseline, ac = pairs[c].baseline - pairs[a].baseline;
+        if (cv::norm(ab.cross(ac)) < 1e-3 * cv::norm(ab) * cv::norm(ac) + 1.0) continue;  // nearly collinear
+        RigidTransform candidate;
+        try {
+            candidate = fitRigid({pairs[a].current, pairs[b].current, pairs[c].current},
+                                 {pairs[a].baseline, pairs[b].baseline, pairs[c].baseline});
+        } catch (const InvalidInput&) {
+            continue;
+        }
+        int count = 0;
+        for (const PointPair& p : pairs) count += pairAgrees(p, candidate, o) ? 1 : 0;
+        if (count > bestCount) {
+            bestCount = count;
+            bestTransform = candidate;
+        }
+    }
+    if (bestCount < std::max(3, minPairs)) return best;
+    // How honest the pairs' covariances are: the median χ² of the better half of all pairs under
+    // the consensus (the worse half may be ice or mismatches) against that of a χ²₃'s 25th
+    // percentile (1.213).
+    {
+        std::vector<double> d2;
+        for (const PointPair& p : pairs) d2.push_back(pairChi2(p, bestTransform, o));
+        const auto quarter = d2.begin() + static_cast<std::ptrdiff_t>(d2.size() / 4);
+        std::nth_element(d2.begin(), quarter, d2.end());
+        o.covarianceScale = std::max(1.0, *quarter / 1.213);
+    }
+    // Gauss-Newton on the Mahalanobis distances, inliers re-selected at every step.
+    RigidTransform t = bestTransform;
+    cv::Matx66d normal;
+    std::vector<std::uint8_t> inlier(pairs.size(), 0);
+    double chi2 = 0;
+    int count = 0;
+    for (int iteration = 0; iteration <= o.refineIterations; ++iteration) {
+        normal = cv::Matx66d::zeros();
+        cv::Vec6d rhs(0, 0, 0, 0, 0, 0);
+        chi2 = 0;
+        count = 0;
+        for (std::size_t i = 0; i < pairs.size(); ++i) {
+            const cv::Vec3d q = t.apply(pairs[i].current);
+            const cv::Vec3d r = q - pairs[i].baseline;
+            const cv::Matx33d w = pairCovariance(pairs[i], o).inv(cv::DECOMP_CHOLESKY);
+            const double d2 = (r.t() * w * r)(0);
+            inlier[i] = pairAgrees(pairs[i], t, o) ? 1 : 0;
+            if (!inlier[i]) continue;
+            ++count;
+            chi2 += d2;
+            // r(ω, δt) = r + ω × q + δt  ->  J = [-[q]×  I]
+            const cv::Matx33d jr = -skew(q);
+            cv::Matx<double, 3, 6> j;
+            for (int a = 0; a < 3; ++a)
+                for (int b = 0; b < 3; ++b) {
+                    j(a, b) = jr(a, b);
+                    j(a, b + 3) = a == b ? 1.0 : 0.0;
+                }
+            normal += j.t() * w * j;
+            rhs -= j.t() * w * r;
+        }
+        if (count < std::max(3, minPairs)) return best;
+        if (iteration == o.refineIterations) break;
+        cv::Vec6d update;
+        if (!cv::solve(normal, rhs, update, cv::DECOMP_CHOLESKY)) return best;
+        cv::Mat rotation;
+        cv::Rodrigues(cv::Vec3d(update[0], update[1], update[2]), rotation);
+        const cv::Matx33d dr(rotation);
+        t.rotation = dr * t.rotation;
+        t.translation = dr * t.translation + cv::Vec3d(update[3], update[4], update[5]);
+    }
+    best.ok = true;
+    best.transform = t;
+    best.inlier = inlier;
+    best.inliers = count;
+    best.covarianceScale = o.covarianceScale;
+    const int dof = std::max(1, 3 * count - 6);
+    best.chi2PerDof = chi2 / dof;
+    best.covariance = normal.inv(cv::DECOMP_CHOLESKY) * (std::max(1.0, best.chi2PerDof) * o.correlationFactor);
+    return best;
+}
+
+}  // namespace icewatch::volume

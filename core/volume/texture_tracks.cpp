@@ -1,0 +1,146 @@
+// The baseline's texture followed into the current capture in both eyes (texture_tracks.hpp).
+#include "core/volume/texture_tracks.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <opencv2/imgproc.hpp>
+
+namespace icewatch::volume {
+
+namespace {
+
+// Q·[x y d 1]ᵀ, dehomogenised; and its Jacobian with respect to (x, y, d).
+cv::Vec3d lift(const cv::Matx44d& q, double x, double y, double d, cv::Matx33d* jacobian = nullptr) {
+    const cv::Vec4d h = q * cv::Vec4d(x, y, d, 1.0);
+    const cv::Vec3d p(h[0] / h[3], h[1] / h[3], h[2] / h[3]);
+    if (jacobian) {
+        for (int k = 0; k < 3; ++k) {
+            const double dw = q(3, k);
+            for (int i = 0; i < 3; ++i) (*jacobian)(i, k) = (q(i, k) - p[i] * dw) / h[3];
+        }
+    }
+    return p;
+}
+
+double worstSigma(const cv::Matx22d& covariance) {
+    const double a = covariance(0, 0), b = covariance(0, 1), c = covariance(1, 1);
+    const double mean = 0.5 * (a + c), spread = std::sqrt(0.25 * (a - c) * (a - c) + b * b);
+    return std::sqrt(std::max(0.0, mean + spread));
+}
+
+// The look of a patch changed in a way light does not change it: its texture is gone, or a
+// layer added brightness that does not scale with what is under it.
+bool appearanceChanged(const PatchTrack& t, const TextureTrackOptions& o) {
+    if (t.zncc < o.minZncc) return true;
+    return std::abs(t.offset) > std::max(o.offsetSigmas * t.offsetSigma, o.minOffsetShare * t.meanFrom);
+}
+
+double medianOf(std::vector<double> values) {
+    if (values.empty()) return 1.0;
+    const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+    std::nth_element(values.begin(), mid, values.end());
+    return *mid;
+}
+
+TextureTrack trackOne(const RectifiedCapture& baseline, const RectifiedCapture& current, cv::Point at, bool onObject,
+                      const cv::Matx44d& q, cv::Point2d prior, const TextureTrackOptions& o) {
+    TextureTrack out;
+    out.pixel = at;
+    out.onObject = onObject;
+    const float matched = baseline.disparity.at<float>(at);
+    if (!(matched > 0)) return out;
+    PatchTrackOptions stereo = o.patch;
+    stereo.horizontalOnly = true;
+    stereo.searchPx = 2;
+    const PatchTrack inBaseline = trackPatch(baseline.left, baseline.right, at, {-matched, 0.0}, stereo);
+    if (!inBaseline.found) return out;
+    const double disparity = -inBaseline.shift.x;
+    PatchTrackOptions temporal = o.patch;
+    temporal.searchPx = o.temporalSearchPx;
+    const PatchTrack left = trackPatch(baseline.left, current.left, at, prior, temporal);
+    if (!left.found) return out;
+    out.zncc = left.zncc;
+    out.offsetGrey = left.offset;
+    out.brightnessRatio = left.brightnessRatio;
+    // The right patch at the nearest whole pixel: the image motion of a rigid scene changes by
+    // thousandths of a pixel over the half pixel this moves it.
+    const cv::Point atRight(static_cast<int>(std::lround(at.x - disparity)), at.y);
+    PatchTrackOptions near = o.patch;
+    near.searchPx = 2;
+    const PatchTrack right = trackPatch(baseline.right, current.right, atRight, left.shift, near);
+    if (!right.found) return out;
+    if (std::max(worstSigma(left.covariance), worstSigma(right.covariance)) > o.maxShiftSigmaPx) return out;
+    const double currentDisparity = disparity + left.shift.x - right.shift.x;
+    if (!(currentDisparity > 0)) return out;
+    cv::Matx33d jacobian;
+    out.baselineMm = lift(q, at.x, at.y, disparity);
+    out.currentMm = lift(q, at.x + left.shift.x, at.y + left.shift.y, currentDisparity, &jacobian);
+    // (x, y, d) of the current point: x and y from the left track, d from both; the baseline's
+    // own disparity error moves both points alike and cancels in their difference.
+    const cv::Matx22d& l = left.covariance;
+    const double rx = right.covariance(0, 0);
+    const cv::Matx33d input(l(0, 0), l(0, 1), l(0, 0),  //
+                            l(1, 0), l(1, 1), l(1, 0),  //
+                            l(0, 0), l(0, 1), l(0, 0) + rx);
+    out.covarianceMm2 = jacobian * input * jacobian.t();
+    const bool changed = appearanceChanged(left, o) || appearanceChanged(right, o);
+    out.state = changed ? TextureTrack::State::Changed : TextureTrack::State::Unchanged;
+    return out;
+}
+
+}  // namespace
+
+std::vector<TextureTrack> trackTexture(const RectifiedCapture& baseline, const RectifiedCapture& current,
+                                       const cv::Mat& object, const cv::Matx44d& q, cv::Point2d prior,
+                                       const TextureTrackOptions& o) {
+    CV_Assert(baseline.left.type() == CV_32FC1 && current.left.type() == CV_32FC1 && object.type() == CV_8UC1);
+    const int r = o.patch.radiusPx;
+    const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_ELLIPSE, {2 * r + 1, 2 * r + 1});
+    cv::Mat inside, outside;
+    cv::erode(object, inside, kernel);
+    cv::dilate(object, outside, kernel);
+    std::vector<cv::Point> pixels;
+    std::vector<std::uint8_t> onObject;
+    for (int y = o.stepPx / 2; y < object.rows; y += o.stepPx)
+        for (int x = o.stepPx / 2; x < object.cols; x += o.stepPx) {
+            const bool in = inside.at<std::uint8_t>(y, x) != 0;
+            if (!in && outside.at<std::uint8_t>(y, x) != 0) continue;  // astride the outline
+            if (!(baseline.disparity.at<float>(y, x) > 0)) continue;
+            pixels.emplace_back(x, y);
+            onObject.push_back(in ? 1 : 0);
+        }
+    std::vector<TextureTrack> tracks(pixels.size());
+    constexpr int kBands = 16;  // fixed: the split, not the thread count, decides the work
+    cv::parallel_for_(cv::Range(0, kBands), [&](const cv::Range& bands) {
+        for (int b = bands.start; b < bands.end; ++b) {
+            const std::size_t lo = pixels.size() * b / kBands, hi = pixels.size() * (b + 1) / kBands;
+            for (std::size_t i = lo; i < hi; ++i) {
+                tracks[i] = trackOne(baseline, current, pixels[i], onObject[i] != 0, q, prior, o);
+            }
+        }
+    });
+    // The scene's own change of brightness (light), and the patches that changed otherwise.
+    std::vector<double> ratios;
+    for (const TextureTrack& t : tracks)
+        if (t.state != TextureTrack::State::Untracked) ratios.push_back(t.brightnessRatio);
+    const double sceneRatio = medianOf(ratios);
+    for (TextureTrack& t : tracks) {
+        if (t.state == TextureTrack::State::Unchanged && std::abs(t.brightnessRatio / sceneRatio - 1.0) > o.maxBrightnessChange) {
+            t.state = TextureTrack::State::Changed;
+        }
+    }
+    return tracks;
+}
+
+cv::Point2d globalImageShift(const cv::Mat& baselineLeft, const cv::Mat& currentLeft, const cv::Mat& mask) {
+    cv::Rect box = cv::boundingRect(mask);
+    if (box.width < 16 || box.height < 16) return {0, 0};
+    cv::Mat a, b, window;
+    baselineLeft(box).convertTo(a, CV_32F);
+    currentLeft(box).convertTo(b, CV_32F);
+    cv::createHanningWindow(window, box.size(), CV_32F);
+    return cv::phaseCorrelate(a, b, window);
+}
+
+}  // namespace icewatch::volume

@@ -1,0 +1,69 @@
+#pragma once
+
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "core/volume/patch_tracker.hpp"
+
+namespace icewatch::volume {
+
+// Both captures of one scene, rectified, as the tracker reads them.
+struct RectifiedCapture {
+    cv::Mat left, right;  // CV_32FC1 grey, 0..255 (the float average of the capture's frames)
+    cv::Mat disparity;    // CV_32F left-view disparities from the matcher, < 0 where none
+};
+
+struct TextureTrackOptions {
+    PatchTrackOptions patch;        // window and refinement of every track
+    int stepPx = 12;                // one sample every this many pixels in x and y
+    int temporalSearchPx = 8;       // how far (px) a patch may have moved between the captures beyond the prior
+    double maxShiftSigmaPx = 0.08;  // a track less precise than this along its worst axis is not evidence
+    double minZncc = 0.6;           // below: the texture was not found again (covered, or changed)
+    double offsetSigmas = 4.0;      // an offset beyond this many of its σ, and ...
+    double minOffsetShare = 0.04;   // ... beyond this share of the patch's mean, is a change of appearance
+    // A patch whose brightness changed by more than this share against the scene's own change
+    // (the median over every sample found: a change of light scales the whole scene alike)
+    // changed its look.
+    double maxBrightnessChange = 0.04;
+};
+
+// Where one baseline texture sample went, in three dimensions.
+struct TextureTrack {
+    enum class State {
+        Untracked,  // no texture to follow, not found again in one of the three tracks, or imprecise
+        Changed,    // found, but its appearance changed in a way light does not change it (ice)
+        Unchanged,  // found again with the same look: evidence of how the object moved
+    };
+    cv::Point pixel;          // baseline left rectified pixel
+    bool onObject = false;    // inside the object's outline (else background)
+    State state = State::Untracked;
+    cv::Vec3d baselineMm;     // left rectified camera frame
+    cv::Vec3d currentMm;
+    cv::Matx33d covarianceMm2 = cv::Matx33d::zeros();  // of currentMm - baselineMm
+    double zncc = 0;
+    double offsetGrey = 0;    // photometric offset of the left eye's temporal track
+    double brightnessRatio = 1;  // of the left eye's temporal track
+};
+
+// Follows the baseline's texture into the current capture in both eyes, without the stereo
+// matcher's aggregation (which spreads ice over the clean surface around it):
+//   1. the baseline's own disparity at each sample, re-measured by a horizontal patch track
+//      from its left into its right eye, starting from the matcher's value;
+//   2. the left patch tracked from the baseline to the current left image, the right patch
+//      (at the refined disparity) from the baseline to the current right image;
+//   3. the current disparity = baseline disparity + left shift - right shift, and both points
+//      lifted to 3-D with Q; the covariance follows from the tracks' own covariances.
+// Samples lie on a regular grid inside `object` (eroded by the patch radius) and, as background,
+// outside it (dilated by the radius), where the baseline has a disparity. `prior` is the expected
+// image motion (e.g. from a global correlation). Work is split into fixed row bands, so the result
+// does not depend on the number of threads.
+std::vector<TextureTrack> trackTexture(const RectifiedCapture& baseline, const RectifiedCapture& current,
+                                       const cv::Mat& object, const cv::Matx44d& q, cv::Point2d prior,
+                                       const TextureTrackOptions& options = {});
+
+// The image motion of the scene between two left images, by phase correlation inside `mask`
+// (CV_8U, the region that matters); used as the trackers' starting point.
+cv::Point2d globalImageShift(const cv::Mat& baselineLeft, const cv::Mat& currentLeft, const cv::Mat& mask);
+
+}  // namespace icewatch::volume

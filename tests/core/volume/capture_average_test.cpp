@@ -1,0 +1,105 @@
+#include "core/volume/capture_average.hpp"
+
+#include <cmath>
+
+#include <opencv2/imgproc.hpp>
+#include <gtest/gtest.h>
+
+#include "core/common/error.hpp"
+
+namespace icewatch::volume {
+namespace {
+
+// A textured side-by-side frame (both eyes alike), in floating point, shifted by `dx` pixels.
+cv::Mat scene(double dx = 0.0) {
+    cv::Mat base(240, 640, CV_32F);
+    cv::RNG rng(11);
+    rng.fill(base, cv::RNG::UNIFORM, 60, 190);
+    cv::GaussianBlur(base, base, {0, 0}, 2.0);
+    if (dx != 0.0) {
+        const cv::Matx23d shift(1, 0, dx, 0, 1, 0);
+        cv::warpAffine(base, base, shift, base.size(), cv::INTER_CUBIC, cv::BORDER_REFLECT);
+    }
+    return base;
+}
+
+cv::Mat noisyFrame(const cv::Mat& truth, double sigma, std::uint64_t seed) {
+    cv::Mat noise(truth.size(), CV_32F);
+    cv::RNG rng(seed);
+    rng.fill(noise, cv::RNG::NORMAL, 0.0, sigma);
+    cv::Mat grey8;
+    cv::Mat(truth + noise).convertTo(grey8, CV_8U);
+    return grey8;
+}
+
+CaptureAverageOptions lenient() {
+    CaptureAverageOptions o;
+    o.health.minSharpness = 0.0;
+    o.health.minContrast = 0.0;
+    return o;
+}
+
+TEST(CaptureAverage, NoisyCopiesAverageToWithinSigmaOverRootN) {
+    const cv::Mat truth = scene();
+    const double sigma = 4.0;
+    for (const int n : {1, 4, 16}) {
+        std::vector<cv::Mat> frames;
+        for (int i = 0; i < n; ++i) frames.push_back(noisyFrame(truth, sigma, 100 + i));
+        const AveragedCapture a = averageCapture(frames, {}, lenient());
+        ASSERT_EQ(a.framesUsed, n);
+        ASSERT_EQ(a.frame.type(), CV_32FC1);
+        const double rms = cv::norm(a.frame, truth, cv::NORM_L2) / std::sqrt(static_cast<double>(truth.total()));
+        // σ/√N, plus the 8-bit rounding of each frame (1/√12 grey level, itself averaged down).
+        const double expected = std::sqrt(sigma * sigma + 1.0 / 12.0) / std::sqrt(static_cast<double>(n));
+        EXPECT_NEAR(rms, expected, 0.05 * expected) << n << " frames";
+    }
+}
+
+TEST(CaptureAverage, FramesThatMovedOrAreDarkAreLeftOutAndNamed) {
+    const cv::Mat truth = scene();
+    std::vector<cv::Mat> frames;
+    std::vector<std::string> names;
+    for (int i = 0; i < 8; ++i) {
+        cv::Mat frame = noisyFrame(i == 3 ? scene(1.5) : truth, 2.0, 200 + i);  // frame 4: a gust moved it
+        if (i == 6) frame = frame / 20;                                         // frame 7: dark
+        frames.push_back(frame);
+        names.push_back("f" + std::to_string(i + 1));
+    }
+    const AveragedCapture a = averageCapture(frames, names, lenient());
+    EXPECT_EQ(a.framesUsed, 6);
+    EXPECT_EQ(a.framesHealthy, 7);
+    ASSERT_EQ(a.dropped.size(), 2u);
+    EXPECT_EQ(a.dropped[0].flag, "dark");
+    EXPECT_NE(a.dropped[0].reason.find("f7"), std::string::npos) << a.dropped[0].reason;
+    EXPECT_EQ(a.dropped[1].flag, "moved");
+    EXPECT_NE(a.dropped[1].reason.find("f4"), std::string::npos) << a.dropped[1].reason;
+}
+
+TEST(CaptureAverage, SomethingPassingThroughOneFrameLeavesItOut) {
+    const cv::Mat truth = scene();
+    std::vector<cv::Mat> frames;
+    for (int i = 0; i < 6; ++i) frames.push_back(noisyFrame(truth, 2.0, 300 + i));
+    cv::circle(frames[2], {150, 120}, 25, cv::Scalar(10), cv::FILLED);  // a bird
+    const AveragedCapture a = averageCapture(frames, {}, lenient());
+    EXPECT_EQ(a.framesUsed, 5);
+    ASSERT_EQ(a.dropped.size(), 1u);
+    EXPECT_EQ(a.dropped[0].flag, "disturbed");
+    EXPECT_NE(a.dropped[0].reason.find("frame 3"), std::string::npos);
+}
+
+TEST(CaptureAverage, TooFewUsableFramesIsNoCaptureAndSaysWhy) {
+    std::vector<cv::Mat> frames{noisyFrame(scene(), 2.0, 1) / 20, noisyFrame(scene(), 2.0, 2) / 20};
+    CaptureAverageOptions o = lenient();
+    o.minFrames = 1;
+    const AveragedCapture a = averageCapture(frames, {}, o);
+    EXPECT_TRUE(a.frame.empty());
+    EXPECT_NE(a.reason.find("0 usable frames of 2"), std::string::npos) << a.reason;
+}
+
+TEST(CaptureAverage, AFrameOfAnotherSizeIsAnError) {
+    std::vector<cv::Mat> frames{noisyFrame(scene(), 2.0, 1), cv::Mat(100, 100, CV_8U, cv::Scalar(90))};
+    EXPECT_THROW(averageCapture(frames, {"a.jpg", "b.jpg"}, lenient()), InvalidInput);
+}
+
+}  // namespace
+}  // namespace icewatch::volume

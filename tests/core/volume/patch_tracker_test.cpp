@@ -1,0 +1,104 @@
+#include "core/volume/patch_tracker.hpp"
+
+#include <cmath>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "core/synth/texture.hpp"
+
+namespace icewatch::volume {
+namespace {
+
+// A weakly textured surface like the blade's composite (a few grey levels of smooth texture on a
+// mid grey), seen shifted by `shift` pixels, times `gain`, blended towards white by `whiten`, with
+// Gaussian noise of `noise` grey levels. Each pixel averages 4x4 samples of the continuous
+// texture, as a sensor's pixel integrates light, so the shift is exact for the pixels too.
+cv::Mat texturedView(cv::Size size, cv::Point2d shift, double gain, double whiten, double noise, std::uint32_t seed) {
+    constexpr int kSamples = 4;
+    cv::Mat image(size, CV_32F);
+    std::mt19937 random(seed);
+    std::normal_distribution<double> gauss(0.0, 1.0);
+    for (int y = 0; y < size.height; ++y)
+        for (int x = 0; x < size.width; ++x) {
+            double albedo = 0;
+            for (int j = 0; j < kSamples; ++j)
+                for (int i = 0; i < kSamples; ++i) {
+                    const double u = x + (i + 0.5) / kSamples - 0.5 - shift.x, v = y + (j + 0.5) / kSamples - 0.5 - shift.y;
+                    albedo += 150.0 + 8.0 * synth::fractalNoise(u, v, 8.0, 3, 7);
+                }
+            albedo /= kSamples * kSamples;
+            const double seen = gain * albedo * (1.0 - whiten) + whiten * 240.0;
+            image.at<float>(y, x) = static_cast<float>(seen + noise * gauss(random));
+        }
+    return prepareForTracking(image);
+}
+
+struct Bias {
+    double meanError = 0;
+    double meanOffset = 0;
+    int found = 0;
+};
+
+Bias trackGrid(const cv::Mat& from, const cv::Mat& to, cv::Point2d truth) {
+    Bias b;
+    for (int y = 30; y < from.rows - 30; y += 25)
+        for (int x = 30; x < from.cols - 30; x += 25) {
+            const PatchTrack t = trackPatch(from, to, {x, y}, {0, 0});
+            if (!t.found) continue;
+            ++b.found;
+            b.meanError += t.shift.x - truth.x;
+            b.meanOffset += t.offset;
+        }
+    if (b.found > 0) {
+        b.meanError /= b.found;
+        b.meanOffset /= b.found;
+    }
+    return b;
+}
+
+TEST(PatchTracker, RecoversSubpixelShiftsWithoutBias) {
+    const cv::Size size(400, 300);
+    const cv::Mat from = texturedView(size, {0, 0}, 1.0, 0.0, 0.4, 1);
+    for (const double fraction : {0.1, 0.25, 0.4, 0.5, 0.7, 0.9}) {
+        const cv::Point2d truth(2.0 + fraction, -1.0 + 0.5 * fraction);
+        const cv::Mat to = texturedView(size, truth, 1.0, 0.0, 0.4, 2);
+        const Bias b = trackGrid(from, to, truth);
+        EXPECT_GT(b.found, 100) << fraction;
+        EXPECT_LT(std::abs(b.meanError), 0.01) << "fraction " << fraction;
+    }
+}
+
+TEST(PatchTracker, ALightChangeMovesNeitherTheShiftNorTheOffset) {
+    const cv::Size size(400, 300);
+    const cv::Mat from = texturedView(size, {0, 0}, 1.0, 0.0, 0.4, 3);
+    const cv::Point2d truth(1.3, 0.6);
+    const cv::Mat to = texturedView(size, truth, 0.85, 0.0, 0.4, 4);
+    const Bias b = trackGrid(from, to, truth);
+    EXPECT_GT(b.found, 100);
+    EXPECT_LT(std::abs(b.meanError), 0.01);
+    EXPECT_LT(std::abs(b.meanOffset), 1.0);  // light scales: no offset
+    const PatchTrack one = trackPatch(from, to, {200, 150}, {0, 0});
+    ASSERT_TRUE(one.found);
+    EXPECT_NEAR(one.gain, 0.85, 0.05);
+}
+
+TEST(PatchTracker, AWhiteLayerShowsAsAnOffset) {
+    const cv::Size size(200, 200);
+    const cv::Mat from = texturedView(size, {0, 0}, 1.0, 0.0, 0.4, 5);
+    const cv::Mat to = texturedView(size, {0.5, 0}, 1.0, 0.2, 0.4, 6);  // 20 % blended towards white
+    const PatchTrack t = trackPatch(from, to, {100, 100}, {0, 0});
+    ASSERT_TRUE(t.found);
+    EXPECT_GT(t.offset, 4.0 * t.offsetSigma);
+    EXPECT_GT(t.offset, 20.0);
+}
+
+TEST(PatchTracker, RefusesWhatItCannotSee) {
+    const cv::Mat flat = prepareForTracking(cv::Mat(100, 100, CV_32F, cv::Scalar(128)));
+    EXPECT_FALSE(trackPatch(flat, flat, {50, 50}, {0, 0}).found);  // no texture
+    const cv::Mat textured = texturedView({100, 100}, {0, 0}, 1.0, 0.0, 0.0, 7);
+    EXPECT_FALSE(trackPatch(textured, textured, {5, 5}, {0, 0}).found);  // patch off the image
+}
+
+}  // namespace
+}  // namespace icewatch::volume

@@ -1,0 +1,73 @@
+#include "core/volume/rigid_motion.hpp"
+
+#include <cmath>
+#include <random>
+
+#include <opencv2/calib3d.hpp>
+#include <gtest/gtest.h>
+
+namespace icewatch::volume {
+namespace {
+
+cv::Matx33d rotation(const cv::Vec3d& radians) {
+    cv::Mat r;
+    cv::Rodrigues(radians, r);
+    return cv::Matx33d(r);
+}
+
+// Points on a blade-like strip 850 mm away; each pair's error mostly along the line of sight, as
+// stereo gives it; a share of them "iced": moved towards the camera by a few millimetres.
+TEST(RigidMotion, RecoversAKnown6DofMotionWithinItsCovariance) {
+    std::mt19937 random(3);
+    std::normal_distribution<double> gauss(0.0, 1.0);
+    RigidTransform truth;  // current -> baseline
+    truth.rotation = rotation({0.004, -0.003, 0.005});
+    truth.translation = {1.5, -2.0, 2.5};
+    const RigidTransform inverse{truth.rotation.t(), -(truth.rotation.t() * truth.translation)};
+    int trials = 0, covered = 0;
+    for (int trial = 0; trial < 20; ++trial) {
+        std::vector<PointPair> pairs;
+        std::vector<bool> iced;
+        for (double u = -400; u <= 400; u += 20)
+            for (double v = -50; v <= 50; v += 20) {
+                const cv::Vec3d baseline(u, v + 0.02 * u, 850 + 0.05 * u + 10 * std::sin(v / 30));
+                cv::Vec3d current = inverse.apply(baseline);
+                const double sLateral = 0.05, sDepth = 0.4;
+                const cv::Vec3d sight = cv::normalize(current);
+                cv::Vec3d a = cv::normalize(sight.cross(cv::Vec3d(0, 1, 0))), b = sight.cross(a);
+                current += sLateral * gauss(random) * a + sLateral * gauss(random) * b + sDepth * gauss(random) * sight;
+                const cv::Matx33d c = sLateral * sLateral * (a * a.t() + b * b.t()) + sDepth * sDepth * (sight * sight.t());
+                const bool ice = v > 0 && u > -200;  // the leading half of most of the span
+                if (ice) current -= cv::Vec3d(0, 0, 3.0);
+                pairs.push_back({current, baseline, c});
+                iced.push_back(ice);
+            }
+        RigidMotionOptions options;
+        options.seed = static_cast<std::uint32_t>(trial + 1);
+        options.modelNoiseMm = 0.0;
+        options.riseAxis = {0, 0, -1};  // towards the camera
+        const RigidMotion m = fitRigidMotion(pairs, options);
+        ASSERT_TRUE(m.ok);
+        int icedInliers = 0;
+        for (std::size_t i = 0; i < pairs.size(); ++i) icedInliers += iced[i] && m.inlier[i] ? 1 : 0;
+        EXPECT_EQ(icedInliers, 0);
+        // The error as a left perturbation: truth = exp(ω)·fit + δt.
+        const cv::Matx33d dr = truth.rotation * m.transform.rotation.t();
+        cv::Vec3d omega;
+        cv::Rodrigues(cv::Mat(dr), omega);
+        const cv::Vec3d dt = truth.translation - dr * m.transform.translation;
+        const cv::Vec6d error(omega[0], omega[1], omega[2], dt[0], dt[1], dt[2]);
+        const double chi2 = (error.t() * m.covariance.inv(cv::DECOMP_CHOLESKY) * error)(0);
+        ++trials;
+        covered += chi2 < 16.8 ? 1 : 0;  // χ² with 6 dof at 99 %
+    }
+    EXPECT_GE(covered, trials - 1);
+}
+
+TEST(RigidMotion, TooFewPairsIsNotAFit) {
+    std::vector<PointPair> pairs{{{0, 0, 800}, {0, 0, 800}, cv::Matx33d::eye()}, {{10, 0, 800}, {10, 0, 800}, cv::Matx33d::eye()}};
+    EXPECT_FALSE(fitRigidMotion(pairs).ok);
+}
+
+}  // namespace
+}  // namespace icewatch::volume
