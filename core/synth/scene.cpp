@@ -28,6 +28,7 @@
 #include "core/stereo/disparity_io.hpp"
 #include "core/stereo/matcher.hpp"
 #include "core/synth/rasterizer.hpp"
+#include "core/synth/sensor.hpp"
 #include "core/synth/texture.hpp"
 
 namespace icewatch::synth {
@@ -316,27 +317,21 @@ cv::Mat renderEye(const std::vector<Mesh>& meshes, const calib::StereoCalibratio
     return pixels;
 }
 
-cv::Mat toCameraFrame(const cv::Mat& left, const cv::Mat& right, double noiseSigma, int jpegQuality,
-                      std::mt19937& random) {
-    cv::Mat grey = joinSideBySide(left, right) * 255.0;
-    if (noiseSigma > 0) {
-        cv::Mat noise(grey.size(), CV_32F);
-        cv::theRNG().state = random();
-        cv::randn(noise, 0.0, noiseSigma);
-        grey += noise;
-    }
-    cv::Mat grey8;
-    grey.convertTo(grey8, CV_8U);  // rounds and saturates
-    cv::Mat bgr;
-    cv::cvtColor(grey8, bgr, cv::COLOR_GRAY2BGR);
-    std::vector<uchar> jpeg;
-    cv::imencode(".jpg", bgr, jpeg, {cv::IMWRITE_JPEG_QUALITY, jpegQuality});
-    return cv::imdecode(jpeg, cv::IMREAD_COLOR);
-}
-
 cv::Point2d projectLeft(const calib::StereoCalibration& c, const cv::Vec3d& p) {
     return {c.M1.at<double>(0, 0) * p[0] / p[2] + c.M1.at<double>(0, 2),
             c.M1.at<double>(1, 1) * p[1] / p[2] + c.M1.at<double>(1, 2)};
+}
+
+void writeImage(const std::filesystem::path& path, const cv::Mat& image) {
+    bool written = false;
+    try {
+        written = cv::imwrite(path.string(), image);
+    } catch (const cv::Exception&) {
+        written = false;
+    }
+    if (!written) {
+        throw Error(kExitCantCreate, path.string() + ": cannot write the image");
+    }
 }
 
 void checkSpec(const SceneSpec& spec) {
@@ -354,6 +349,9 @@ void checkSpec(const SceneSpec& spec) {
     }
     if (spec.supersampling < 1 || spec.supersampling > 8) {
         throw InvalidInput("synthetic scene: supersampling must be between 1 and 8");
+    }
+    if (spec.frames < 1 || spec.frames > kMaxFrames) {
+        throw InvalidInput("synthetic scene: frames per capture must be between 1 and " + std::to_string(kMaxFrames));
     }
     if (spec.kind == SceneKind::Block && spec.iceVolumeMm3 / (kBlockLengthMm * kBlockWidthMm) > 200.0) {
         throw InvalidInput("synthetic scene: a block of this volume would be taller than 200 mm");
@@ -421,13 +419,21 @@ SyntheticScene renderScene(const SceneSpec& spec) {
 
     const double baseline = spec.baselineMm;
     EyeTruth beforeTruth, afterTruth;
-    auto capture = [&](const std::vector<Mesh>& meshes, EyeTruth& truth) {
+    auto light = [&](const std::vector<Mesh>& meshes, EyeTruth& truth) {
         const cv::Mat left = renderEye(meshes, scene.calibration, 0.0, spec.supersampling, spec.seed, baseline, &truth);
         const cv::Mat right = renderEye(meshes, scene.calibration, baseline, spec.supersampling, spec.seed);
-        return toCameraFrame(left, right, spec.noiseSigma, spec.jpegQuality, random);
+        return joinSideBySide(left, right);
     };
-    scene.before = capture(beforeMeshes, beforeTruth);
-    scene.after = capture(afterMeshes, afterTruth);
+    auto noiseSeeds = [&] {
+        std::vector<std::uint32_t> seeds(static_cast<std::size_t>(spec.frames));
+        for (auto& s : seeds) s = static_cast<std::uint32_t>(random());
+        return seeds;
+    };
+    const Exposure exposure{1.0, spec.noiseSigma, spec.jpegQuality};
+    scene.beforeJpeg = exposeFrames(light(beforeMeshes, beforeTruth), exposure, noiseSeeds());
+    scene.afterJpeg = exposeFrames(light(afterMeshes, afterTruth), exposure, noiseSeeds());
+    scene.before = cv::imdecode(scene.beforeJpeg.front(), cv::IMREAD_COLOR);
+    scene.after = cv::imdecode(scene.afterJpeg.front(), cv::IMREAD_COLOR);
     scene.beforeDisparity = beforeTruth.disparity;
     scene.afterDisparity = afterTruth.disparity;
     scene.afterIceMm = afterTruth.iceMm;
@@ -441,17 +447,9 @@ void writeScene(const SyntheticScene& scene, const SceneSpec& spec, const std::f
         throw Error(kExitCantCreate, dir.string() + ": cannot create the scene directory (" + ec.message() + ")");
     }
     calib::saveCalibration(dir / "calibration.yaml", scene.calibration);
-    for (const auto& [name, frame] : {std::pair{"before.png", &scene.before}, std::pair{"after.png", &scene.after}}) {
-        const auto path = dir / name;
-        bool written = false;
-        try {
-            written = cv::imwrite(path.string(), *frame);
-        } catch (const cv::Exception&) {
-            written = false;
-        }
-        if (!written) {
-            throw Error(kExitCantCreate, path.string() + ": cannot write the image");
-        }
+    if (scene.beforeJpeg.size() <= 1 && scene.afterJpeg.size() <= 1) {
+        writeImage(dir / "before.png", scene.before);
+        writeImage(dir / "after.png", scene.after);
     }
     auto writeJson = [&dir](const std::string& name, const nlohmann::json& json) {
         const auto path = dir / name;
@@ -476,6 +474,7 @@ void writeScene(const SyntheticScene& scene, const SceneSpec& spec, const std::f
                              {"mode", std::to_string(spec.frameSize.width) + "x" + std::to_string(spec.frameSize.height)},
                              {"noise_sigma", spec.noiseSigma},
                              {"jpeg_quality", spec.jpegQuality},
+                             {"frames", spec.frames},
                              {"motion_rotation_deg", {scene.motion.rotationDeg[0], scene.motion.rotationDeg[1],
                                                       scene.motion.rotationDeg[2]}},
                              {"motion_translation_mm", {scene.motion.translationMm[0], scene.motion.translationMm[1],

@@ -20,6 +20,8 @@ enum class SceneKind {
 // "blade" or "block"; throws InvalidInput naming the bad value.
 SceneKind parseSceneKind(std::string_view name);
 
+inline constexpr int kMaxFrames = 256;
+
 struct SceneSpec {
     SceneKind kind = SceneKind::Blade;
     double iceVolumeMm3 = 97609.0;
@@ -27,6 +29,7 @@ struct SceneSpec {
     cv::Size frameSize{2560, 720};  // side-by-side, both eyes (a camera mode)
     double noiseSigma = 1.5;        // sensor noise, grey levels (0..255), Gaussian
     int jpegQuality = 90;           // MJPEG compression as the camera applies it, 1..100
+    int frames = 1;                 // frames per capture (a burst), 1..kMaxFrames
     int supersampling = 3;          // samples per pixel and axis (anti-aliasing)
     double distanceMm = 850.0;      // camera to object
     double baselineMm = 60.0;
@@ -42,7 +45,11 @@ struct RigidMotion {
 
 struct SyntheticScene {
     calib::StereoCalibration calibration;
-    cv::Mat before;  // side-by-side BGR frames as the camera delivers them (JPEG-decoded)
+    // Each capture's frames exactly as the camera's MJPEG stream delivers them: the geometry is
+    // rendered once per capture, every frame carries its own sensor noise and JPEG encoding.
+    std::vector<std::vector<uchar>> beforeJpeg;
+    std::vector<std::vector<uchar>> afterJpeg;
+    cv::Mat before;  // the first frame of each capture, side-by-side BGR, decoded
     cv::Mat after;
     std::vector<cv::Point2d> roi;  // the object's outline in left-eye pixels (before capture)
     double iceVolumeMm3 = 0.0;     // exact, from the rendered geometry
@@ -61,9 +68,11 @@ struct SyntheticScene {
 // negative volume, a block volume too large for its footprint, ...).
 SyntheticScene renderScene(const SceneSpec& spec);
 
-// Writes calibration.yaml, before.png, after.png, roi.json and truth.json into dir (created if
-// needed); with truthMaps also truth_disparity_before.pfm, truth_disparity_after.pfm and
-// truth_ice_mm.pfm (left eye). Throws Error(kExitCantCreate) when a file cannot be written.
+// Writes calibration.yaml, roi.json and truth.json into dir (created if needed), and for
+// single-frame captures before.png and after.png; with truthMaps also truth_disparity_before.pfm,
+// truth_disparity_after.pfm and truth_ice_mm.pfm (left eye). Captures of more than one frame are
+// recordings, a format of drivers/ (a camera's output), so their caller writes them: icewatch synth
+// does. Throws Error(kExitCantCreate) when a file cannot be written.
 void writeScene(const SyntheticScene& scene, const SceneSpec& spec, const std::filesystem::path& dir,
                 bool truthMaps = false);
 

@@ -1,12 +1,18 @@
 // icewatch synth: render a synthetic scene of known ice volume (calibration, two side-by-side
-// captures, the object's outline and the truth) for the volume chain and its benchmark.
-#include <iostream>
+// captures, the object's outline and the truth) for the volume chain and its benchmark. A capture
+// of one frame is written as before.png / after.png; a capture of several frames as a recording
+// (before/, after/) in the format the camera's recorder writes, so it replays like a real burst.
 #include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <regex>
 
 #include <nlohmann/json.hpp>
 
 #include "core/common/error.hpp"
 #include "core/synth/scene.hpp"
+#include "drivers/v4l2/recording.hpp"
 #include "tools/icewatch/command.hpp"
 
 namespace icewatch::cli {
@@ -27,6 +33,37 @@ cv::Size parseMode(const std::string& mode) {
     return {width, height};
 }
 
+constexpr int kRecordingFps = 30;
+
+// Removes the captures an earlier rendering left in dir (before.png / after.png, or the before/ and
+// after/ recordings), so a scene directory never holds two captures that disagree. Only files this
+// command writes are touched.
+void removeOldCaptures(const std::filesystem::path& dir) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    for (const char* capture : {"before", "after"}) {
+        fs::remove(dir / (std::string(capture) + ".png"), ec);
+        const fs::path recording = dir / capture;
+        if (!fs::is_directory(recording, ec)) continue;
+        static const std::regex frameName(R"(\d{6}\.jpg)");
+        for (const auto& entry : fs::directory_iterator(recording, ec)) {
+            if (std::regex_match(entry.path().filename().string(), frameName)) fs::remove(entry.path(), ec);
+        }
+        fs::remove(recording / "recording.json", ec);
+        fs::remove(recording, ec);  // only when now empty
+    }
+}
+
+// One capture's frames as a recording, 1/30 s apart, as the camera's MJPEG stream would deliver them.
+void writeRecording(const std::filesystem::path& dir, const std::vector<std::vector<uchar>>& frames, cv::Size mode) {
+    v4l2::RecordingWriter writer(dir, "synth", v4l2::PixelFormat::kMjpeg, mode.width, mode.height, kRecordingFps);
+    for (std::size_t k = 0; k < frames.size(); ++k) {
+        const auto timestampUs = static_cast<std::int64_t>(std::llround(1e6 * static_cast<double>(k) / kRecordingFps));
+        writer.add(frames[k].data(), frames[k].size(), timestampUs);
+    }
+    writer.finish();
+}
+
 }  // namespace
 
 void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction& run) {
@@ -41,6 +78,7 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
         int supersampling = 3;
         std::string out;
         bool truthMaps = false;
+        int frames = 1;
     };
     auto o = std::make_shared<Options>();
     cmd->add_option("--scene", o->scene, "blade or block")->check(CLI::IsMember({"blade", "block"}));
@@ -50,6 +88,10 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
     cmd->add_option("--noise", o->noise, "sensor noise sigma, grey levels");
     cmd->add_option("--jpeg-quality", o->jpegQuality, "JPEG quality 1..100");
     cmd->add_option("--supersampling", o->supersampling, "samples per pixel and axis (anti-aliasing)");
+    cmd->add_option("--frames", o->frames,
+                    "frames per capture; more than 1 writes before/ and after/ as recordings (recording.json + "
+                    "000001.jpg ...), each frame with its own noise and JPEG encoding")
+        ->check(CLI::Range(1, synth::kMaxFrames));
     cmd->add_option("--out", o->out, "scene directory to write")->required();
     cmd->add_flag("--truth-maps", o->truthMaps,
                   "also write the left eye's true disparities (truth_disparity_{before,after}.pfm) and ice thickness "
@@ -64,9 +106,18 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
             spec.noiseSigma = o->noise;
             spec.jpegQuality = o->jpegQuality;
             spec.supersampling = o->supersampling;
+            spec.frames = o->frames;
             const synth::SyntheticScene scene = synth::renderScene(spec);
+            removeOldCaptures(o->out);
             synth::writeScene(scene, spec, o->out, o->truthMaps);
-            std::cout << nlohmann::json{{"out", o->out}, {"scene", o->scene}, {"ice_volume_mm3", scene.iceVolumeMm3}}.dump()
+            if (spec.frames > 1) {
+                const std::filesystem::path out = o->out;
+                writeRecording(out / "before", scene.beforeJpeg, spec.frameSize);
+                writeRecording(out / "after", scene.afterJpeg, spec.frameSize);
+            }
+            std::cout << nlohmann::json{{"out", o->out}, {"scene", o->scene}, {"ice_volume_mm3", scene.iceVolumeMm3},
+                                      {"frames", spec.frames}}
+                             .dump()
                       << "\n";
             return 0;
         };
