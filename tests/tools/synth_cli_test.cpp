@@ -81,5 +81,47 @@ TEST(SynthCli, BadFrameCountIsAUsageError) {
     }
 }
 
+TEST(SynthCli, TruthRecordsEveryOption) {
+    const fs::path dir = test::freshTempDir() / "scene";
+    const auto r = synth(dir, {"--ice", "patches", "--motion", "none", "--background", "table", "--light-change", "0.85",
+                               "--truth-maps"});
+    ASSERT_EQ(r.status, 0) << r.err;
+    const nlohmann::json t = truth(dir);
+    EXPECT_EQ(t["scene"], "blade");
+    EXPECT_EQ(t["ice"], "patches");
+    EXPECT_EQ(t["motion"], "none");
+    EXPECT_EQ(t["background"], "table");
+    EXPECT_DOUBLE_EQ(t["light_change"].get<double>(), 0.85);
+    EXPECT_EQ(t["frames"], 1);
+    EXPECT_NEAR(t["ice_volume_mm3"].get<double>(), 97609.0, 1e-6 * 97609.0);
+    EXPECT_EQ(t["motion_translation_mm"], nlohmann::json({0.0, 0.0, 0.0}));
+    EXPECT_TRUE(t["look"]["composite_contrast"].is_number());
+    for (const char* name : {"before.png", "after.png", "truth_disparity_before.pfm", "truth_disparity_after.pfm",
+                             "truth_ice_mm.pfm"}) {
+        EXPECT_TRUE(fs::exists(dir / name)) << name;
+    }
+}
+
+TEST(SynthCli, BadOptionValuesAreUsageErrors) {
+    const fs::path base = test::freshTempDir();
+    const std::vector<std::vector<std::string>> bad{
+        {"--ice", "frost"},          {"--motion", "large"},       {"--background", "sea"},
+        {"--light-change", "0.1"},   {"--light-change", "3.5"},   {"--light-change", "bright"}};
+    int k = 0;
+    for (const auto& arguments : bad) {
+        const fs::path dir = base / std::to_string(k++);
+        const auto r = synth(dir, arguments);
+        EXPECT_EQ(r.status, kExitUsage) << arguments[0] << " " << arguments[1];
+        const std::string& option = arguments[arguments.size() - 2];
+        EXPECT_NE(r.err.find(option), std::string::npos) << r.err;
+        EXPECT_FALSE(fs::exists(dir / "truth.json"));
+    }
+    const auto block = test::runProgram({(test::binDir() / "icewatch").string(), "synth", "--scene", "block",
+                                         "--ice-volume-mm3", "1000", "--ice", "glaze-all", "--out",
+                                         (base / "block").string()});
+    EXPECT_EQ(block.status, kExitUsage);
+    EXPECT_NE(block.err.find("--ice"), std::string::npos) << block.err;
+}
+
 }  // namespace
 }  // namespace icewatch

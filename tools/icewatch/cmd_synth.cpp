@@ -79,6 +79,10 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
         std::string out;
         bool truthMaps = false;
         int frames = 1;
+        std::string ice = "leading-edge";
+        std::string motion = "small";
+        std::string background = "sky";
+        double lightChange = 1.0;
     };
     auto o = std::make_shared<Options>();
     cmd->add_option("--scene", o->scene, "blade or block")->check(CLI::IsMember({"blade", "block"}));
@@ -92,12 +96,27 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
                     "frames per capture; more than 1 writes before/ and after/ as recordings (recording.json + "
                     "000001.jpg ...), each frame with its own noise and JPEG encoding")
         ->check(CLI::Range(1, synth::kMaxFrames));
+    cmd->add_option("--ice", o->ice,
+                    "the blade's ice: leading-edge (a horn along the leading edge), glaze-all (a thin translucent "
+                    "layer over the whole blade) or patches (opaque rime patches anywhere)")
+        ->check(CLI::IsMember({"leading-edge", "glaze-all", "patches"}));
+    cmd->add_option("--motion", o->motion, "the object's motion between the captures: none or small (up to 3 mm, 0.3°)")
+        ->check(CLI::IsMember({"none", "small"}));
+    cmd->add_option("--background", o->background,
+                    "sky (overcast) or table (the object lies on a textured tabletop and moves with it)")
+        ->check(CLI::IsMember({"sky", "table"}));
+    cmd->add_option("--light-change", o->lightChange,
+                    "the current capture's illumination times this, 0.2..3 (saturates at white)")
+        ->check(CLI::Range(synth::kMinLightChange, synth::kMaxLightChange));
     cmd->add_option("--out", o->out, "scene directory to write")->required();
     cmd->add_flag("--truth-maps", o->truthMaps,
                   "also write the left eye's true disparities (truth_disparity_{before,after}.pfm) and ice thickness "
                   "(truth_ice_mm.pfm)");
     cmd->callback([&run, o] {
         run = [o] {
+            if (o->scene == "block" && o->ice != "leading-edge") {
+                throw Error(kExitUsage, "--ice " + o->ice + ": the ice kind is the blade's; a block scene's ice is the block");
+            }
             synth::SceneSpec spec;
             spec.kind = synth::parseSceneKind(o->scene);
             spec.iceVolumeMm3 = o->volumeMm3;
@@ -107,6 +126,10 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
             spec.jpegQuality = o->jpegQuality;
             spec.supersampling = o->supersampling;
             spec.frames = o->frames;
+            spec.ice = synth::parseIceKind(o->ice);
+            spec.motion = synth::parseMotionKind(o->motion);
+            spec.background = synth::parseBackground(o->background);
+            spec.lightChange = o->lightChange;
             const synth::SyntheticScene scene = synth::renderScene(spec);
             removeOldCaptures(o->out);
             synth::writeScene(scene, spec, o->out, o->truthMaps);
