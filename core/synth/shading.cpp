@@ -18,9 +18,9 @@ constexpr double kPi = 3.14159265358979323846;
 // Composite: a weak, smooth texture (the hard case for a matcher).
 float composite(const Shading& s, float a, float b) {
     const Look& look = s.look;
-    return static_cast<float>(look.compositeAlbedo +
-                              look.compositeContrast * fractalNoise(a, b, look.compositeFeatureMm, 4, s.seed) +
-                              0.43 * look.compositeContrast * fractalNoise(a, b, 0.2 * look.compositeFeatureMm, 2, s.seed + 7));
+    const double coarse = fractalNoise(a, b, look.compositeFeatureMm, 4, s.seed);
+    const double fine = fractalNoise(a, b, 0.2 * look.compositeFeatureMm, 2, s.seed + 7);
+    return static_cast<float>(look.compositeAlbedo + look.compositeContrast * (coarse + 0.43 * fine));
 }
 
 // Rime is opaque from a fraction of a millimetre.
@@ -29,25 +29,26 @@ float rimeOpacity(float thicknessMm) { return 1.0f - std::exp(-thicknessMm / 0.3
 // What the blade's ice does to the composite under it.
 float icedComposite(const Shading& s, float albedo, const cv::Vec4f& a) {
     const float thickness = a[3];
-    const Look& look = s.look;
+    const auto whiteness = static_cast<float>(s.look.iceWhiteness);
+    const auto translucencyMm = static_cast<float>(s.look.iceTranslucencyMm);
     switch (s.ice) {
         case IceKind::LeadingEdge: {
             // White, translucent where thin, with its own faint texture.
-            const float opacity = 1.0f - std::exp(-thickness / static_cast<float>(look.iceTranslucencyMm));
-            const float ice = static_cast<float>(look.iceWhiteness) + 0.03f * fractalNoise(a[0], a[1], 3.0, 3, s.seed + 100);
+            const float opacity = 1.0f - std::exp(-thickness / translucencyMm);
+            const float ice = whiteness + 0.03f * fractalNoise(a[0], a[1], 3.0, 3, s.seed + 100);
             return albedo + (ice - albedo) * opacity;
         }
         case IceKind::GlazeAll: {
             // Clear glaze: the composite's texture shows through, whitened and of lower contrast
             // the thicker the layer, with a faint texture of the glaze's own surface.
-            const float veil = 0.1f + 0.35f * (1.0f - std::exp(-thickness / (2.0f * static_cast<float>(look.iceTranslucencyMm))));
-            const float glaze = static_cast<float>(look.iceWhiteness) + 0.015f * fractalNoise(a[0], a[1], 2.0, 3, s.seed + 110);
+            const float veil = 0.1f + 0.35f * (1.0f - std::exp(-thickness / (2.0f * translucencyMm)));
+            const float glaze = whiteness + 0.015f * fractalNoise(a[0], a[1], 2.0, 3, s.seed + 110);
             return albedo + (glaze - albedo) * veil;
         }
         case IceKind::Patches: {
             // Rime: opaque white from a fraction of a millimetre, rough, with a texture of its own.
             const float opacity = rimeOpacity(thickness);
-            const float rime = static_cast<float>(look.iceWhiteness) + 0.06f * fractalNoise(a[0], a[1], 2.5, 4, s.seed + 150);
+            const float rime = whiteness + 0.06f * fractalNoise(a[0], a[1], 2.5, 4, s.seed + 150);
             return albedo + (rime - albedo) * opacity;
         }
     }

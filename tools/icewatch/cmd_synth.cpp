@@ -115,7 +115,8 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
     cmd->callback([&run, o] {
         run = [o] {
             if (o->scene == "block" && o->ice != "leading-edge") {
-                throw Error(kExitUsage, "--ice " + o->ice + ": the ice kind is the blade's; a block scene's ice is the block");
+                throw Error(kExitUsage,
+                            "--ice " + o->ice + ": the ice kind is the blade's; a block scene's ice is the block");
             }
             synth::SceneSpec spec;
             spec.kind = synth::parseSceneKind(o->scene);
