@@ -45,6 +45,7 @@ nlohmann::json truthJson(const SyntheticScene& scene, const SceneSpec& spec) {
             {"noise_sigma", spec.noiseSigma},
             {"jpeg_quality", spec.jpegQuality},
             {"frames", spec.frames},
+            {"supersampling", spec.supersampling},
             {"ice", spec.kind == SceneKind::Blade ? iceKindName(spec.ice) : "block"},
             {"motion", motionKindName(spec.motion)},
             {"background", backgroundName(spec.background)},

@@ -93,6 +93,8 @@ TEST(SynthCli, TruthRecordsEveryOption) {
     EXPECT_EQ(t["background"], "table");
     EXPECT_DOUBLE_EQ(t["light_change"].get<double>(), 0.85);
     EXPECT_EQ(t["frames"], 1);
+    EXPECT_EQ(t["supersampling"], 1);
+    EXPECT_EQ(t["mode"], "640x240");
     EXPECT_NEAR(t["ice_volume_mm3"].get<double>(), 97609.0, 1e-6 * 97609.0);
     EXPECT_EQ(t["motion_translation_mm"], nlohmann::json({0.0, 0.0, 0.0}));
     EXPECT_TRUE(t["look"]["composite_contrast"].is_number());

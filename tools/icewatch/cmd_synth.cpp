@@ -87,7 +87,7 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
     auto o = std::make_shared<Options>();
     cmd->add_option("--scene", o->scene, "blade or block")->check(CLI::IsMember({"blade", "block"}));
     cmd->add_option("--ice-volume-mm3", o->volumeMm3, "ice volume to render, mm3")->required();
-    cmd->add_option("--seed", o->seed, "texture, pose and noise seed");
+    cmd->add_option("--seed", o->seed, "pose, motion, look (light, textures, ice appearance), rime patches and noise");
     cmd->add_option("--mode", o->mode, "side-by-side frame size, e.g. 2560x720 or 3840x1080");
     cmd->add_option("--noise", o->noise, "sensor noise sigma, grey levels");
     cmd->add_option("--jpeg-quality", o->jpegQuality, "JPEG quality 1..100");
