@@ -9,26 +9,62 @@
 #include <opencv2/core.hpp>
 
 #include "core/calib/stereo_calibration.hpp"
+#include "core/synth/look.hpp"
 
 namespace icewatch::synth {
 
 enum class SceneKind {
-    Blade,  // the seed paper's model blade: 0.82 m, chord 120 -> 32 mm, leading-edge ice + glaze
+    Blade,  // the seed paper's model blade: 0.82 m, chord 120 -> 32 mm
     Block,  // the seed paper's Table 5: a regular ice block on a flat plate
 };
 
-// "blade" or "block"; throws InvalidInput naming the bad value.
+// The blade's ice (blade.cpp says how each is shaped).
+enum class IceKind {
+    LeadingEdge,  // accretion along the leading edge, growing towards the tip, plus a thin glaze
+    GlazeAll,     // a thin translucent glaze over the whole visible surface
+    Patches,      // a few opaque, rough rime patches anywhere on the blade
+};
+
+// How the object moved between the captures.
+enum class MotionKind {
+    None,   // the identical pose (a blade held in a rig, a camera that did not move)
+    Small,  // a parked blade is never exactly where it was: up to 3 mm and 0.3° (block 1 mm, 0.1°)
+};
+
+// What lies behind the object.
+enum class Background {
+    Sky,    // overcast, almost featureless
+    Table,  // a textured tabletop the object lies on (it moves with the object)
+};
+
+// Each parses the name the command line and truth.json use; throws InvalidInput naming the bad value.
 SceneKind parseSceneKind(std::string_view name);
+IceKind parseIceKind(std::string_view name);
+MotionKind parseMotionKind(std::string_view name);
+Background parseBackground(std::string_view name);
+std::string sceneKindName(SceneKind kind);
+std::string iceKindName(IceKind kind);
+std::string motionKindName(MotionKind kind);
+std::string backgroundName(Background background);
+
+inline constexpr int kMaxFrames = 256;
+inline constexpr double kMinLightChange = 0.2;
+inline constexpr double kMaxLightChange = 3.0;
 
 struct SceneSpec {
     SceneKind kind = SceneKind::Blade;
     double iceVolumeMm3 = 97609.0;
-    std::uint32_t seed = 1;
+    std::uint32_t seed = 1;  // pose, motion, look, ice placement and noise
     cv::Size frameSize{2560, 720};  // side-by-side, both eyes (a camera mode)
     double noiseSigma = 1.5;        // sensor noise, grey levels (0..255), Gaussian
     int jpegQuality = 90;           // MJPEG compression as the camera applies it, 1..100
+    int frames = 1;                 // frames per capture (a burst), 1..kMaxFrames
     int supersampling = 3;          // samples per pixel and axis (anti-aliasing)
-    double distanceMm = 850.0;      // camera to object
+    IceKind ice = IceKind::LeadingEdge;  // the blade's; a block scene's ice is the block
+    MotionKind motion = MotionKind::Small;
+    Background background = Background::Sky;
+    double lightChange = 1.0;  // the current capture's illumination over the baseline's
+    double distanceMm = 850.0;  // camera to object
     double baselineMm = 60.0;
     double horizontalFovDeg = 80.0;
 };
@@ -42,13 +78,18 @@ struct RigidMotion {
 
 struct SyntheticScene {
     calib::StereoCalibration calibration;
-    cv::Mat before;  // side-by-side BGR frames as the camera delivers them (JPEG-decoded)
+    // Each capture's frames exactly as the camera's MJPEG stream delivers them: the geometry is
+    // rendered once per capture, every frame carries its own sensor noise and JPEG encoding.
+    std::vector<std::vector<uchar>> beforeJpeg;
+    std::vector<std::vector<uchar>> afterJpeg;
+    cv::Mat before;  // the first frame of each capture, side-by-side BGR, decoded
     cv::Mat after;
     std::vector<cv::Point2d> roi;  // the object's outline in left-eye pixels (before capture)
     double iceVolumeMm3 = 0.0;     // exact, from the rendered geometry
     double maxIceThicknessMm = 0.0;
     RigidMotion motion;
-    // Per left-eye pixel (CV_32F, stereo::kInvalidDisparity where the pixel is not wholly on the object): the true
+    Look look;
+    // Per left-eye pixel (CV_32F, stereo::kInvalidDisparity where any of the pixel's samples sees the sky): the true
     // disparity of each capture (f·B/Z averaged over the pixel's samples; the nominal
     // calibration's rectification is the identity) and the true ice thickness of the current one,
     // along the object's normal, mm. For measuring the matcher and the chain stage by stage.
@@ -61,9 +102,11 @@ struct SyntheticScene {
 // negative volume, a block volume too large for its footprint, ...).
 SyntheticScene renderScene(const SceneSpec& spec);
 
-// Writes calibration.yaml, before.png, after.png, roi.json and truth.json into dir (created if
-// needed); with truthMaps also truth_disparity_before.pfm, truth_disparity_after.pfm and
-// truth_ice_mm.pfm (left eye). Throws Error(kExitCantCreate) when a file cannot be written.
+// Writes calibration.yaml, roi.json and truth.json into dir (created if needed), and for
+// single-frame captures before.png and after.png; with truthMaps also truth_disparity_before.pfm,
+// truth_disparity_after.pfm and truth_ice_mm.pfm (left eye). Captures of more than one frame are
+// recordings, a format of drivers/ (a camera's output), so their caller writes them: icewatch synth
+// does. Throws Error(kExitCantCreate) when a file cannot be written.
 void writeScene(const SyntheticScene& scene, const SceneSpec& spec, const std::filesystem::path& dir,
                 bool truthMaps = false);
 

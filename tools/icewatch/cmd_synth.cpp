@@ -1,12 +1,18 @@
 // icewatch synth: render a synthetic scene of known ice volume (calibration, two side-by-side
-// captures, the object's outline and the truth) for the volume chain and its benchmark.
-#include <iostream>
+// captures, the object's outline and the truth) for the volume chain and its benchmark. A capture
+// of one frame is written as before.png / after.png; a capture of several frames as a recording
+// (before/, after/) in the format the camera's recorder writes, so it replays like a real burst.
 #include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <regex>
 
 #include <nlohmann/json.hpp>
 
 #include "core/common/error.hpp"
 #include "core/synth/scene.hpp"
+#include "drivers/v4l2/recording.hpp"
 #include "tools/icewatch/command.hpp"
 
 namespace icewatch::cli {
@@ -27,6 +33,37 @@ cv::Size parseMode(const std::string& mode) {
     return {width, height};
 }
 
+constexpr int kRecordingFps = 30;
+
+// Removes the captures an earlier rendering left in dir (before.png / after.png, or the before/ and
+// after/ recordings), so a scene directory never holds two captures that disagree. Only files this
+// command writes are touched.
+void removeOldCaptures(const std::filesystem::path& dir) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    for (const char* capture : {"before", "after"}) {
+        fs::remove(dir / (std::string(capture) + ".png"), ec);
+        const fs::path recording = dir / capture;
+        if (!fs::is_directory(recording, ec)) continue;
+        static const std::regex frameName(R"(\d{6}\.jpg)");
+        for (const auto& entry : fs::directory_iterator(recording, ec)) {
+            if (std::regex_match(entry.path().filename().string(), frameName)) fs::remove(entry.path(), ec);
+        }
+        fs::remove(recording / "recording.json", ec);
+        fs::remove(recording, ec);  // only when now empty
+    }
+}
+
+// One capture's frames as a recording, 1/30 s apart, as the camera's MJPEG stream would deliver them.
+void writeRecording(const std::filesystem::path& dir, const std::vector<std::vector<uchar>>& frames, cv::Size mode) {
+    v4l2::RecordingWriter writer(dir, "synth", v4l2::PixelFormat::kMjpeg, mode.width, mode.height, kRecordingFps);
+    for (std::size_t k = 0; k < frames.size(); ++k) {
+        const auto timestampUs = static_cast<std::int64_t>(std::llround(1e6 * static_cast<double>(k) / kRecordingFps));
+        writer.add(frames[k].data(), frames[k].size(), timestampUs);
+    }
+    writer.finish();
+}
+
 }  // namespace
 
 void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction& run) {
@@ -41,21 +78,46 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
         int supersampling = 3;
         std::string out;
         bool truthMaps = false;
+        int frames = 1;
+        std::string ice = "leading-edge";
+        std::string motion = "small";
+        std::string background = "sky";
+        double lightChange = 1.0;
     };
     auto o = std::make_shared<Options>();
     cmd->add_option("--scene", o->scene, "blade or block")->check(CLI::IsMember({"blade", "block"}));
     cmd->add_option("--ice-volume-mm3", o->volumeMm3, "ice volume to render, mm3")->required();
-    cmd->add_option("--seed", o->seed, "texture, pose and noise seed");
+    cmd->add_option("--seed", o->seed, "pose, motion, look (light, textures, ice appearance), rime patches and noise");
     cmd->add_option("--mode", o->mode, "side-by-side frame size, e.g. 2560x720 or 3840x1080");
     cmd->add_option("--noise", o->noise, "sensor noise sigma, grey levels");
     cmd->add_option("--jpeg-quality", o->jpegQuality, "JPEG quality 1..100");
     cmd->add_option("--supersampling", o->supersampling, "samples per pixel and axis (anti-aliasing)");
+    cmd->add_option("--frames", o->frames,
+                    "frames per capture; more than 1 writes before/ and after/ as recordings (recording.json + "
+                    "000001.jpg ...), each frame with its own noise and JPEG encoding")
+        ->check(CLI::Range(1, synth::kMaxFrames));
+    cmd->add_option("--ice", o->ice,
+                    "the blade's ice: leading-edge (a horn along the leading edge), glaze-all (a thin translucent "
+                    "layer over the whole blade) or patches (opaque rime patches anywhere)")
+        ->check(CLI::IsMember({"leading-edge", "glaze-all", "patches"}));
+    cmd->add_option("--motion", o->motion, "the object's motion between the captures: none or small (up to 3 mm, 0.3°)")
+        ->check(CLI::IsMember({"none", "small"}));
+    cmd->add_option("--background", o->background,
+                    "sky (overcast) or table (the object lies on a textured tabletop and moves with it)")
+        ->check(CLI::IsMember({"sky", "table"}));
+    cmd->add_option("--light-change", o->lightChange,
+                    "the current capture's illumination times this, 0.2..3 (saturates at white)")
+        ->check(CLI::Range(synth::kMinLightChange, synth::kMaxLightChange));
     cmd->add_option("--out", o->out, "scene directory to write")->required();
     cmd->add_flag("--truth-maps", o->truthMaps,
                   "also write the left eye's true disparities (truth_disparity_{before,after}.pfm) and ice thickness "
                   "(truth_ice_mm.pfm)");
     cmd->callback([&run, o] {
         run = [o] {
+            if (o->scene == "block" && o->ice != "leading-edge") {
+                throw Error(kExitUsage,
+                            "--ice " + o->ice + ": the ice kind is the blade's; a block scene's ice is the block");
+            }
             synth::SceneSpec spec;
             spec.kind = synth::parseSceneKind(o->scene);
             spec.iceVolumeMm3 = o->volumeMm3;
@@ -64,9 +126,22 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
             spec.noiseSigma = o->noise;
             spec.jpegQuality = o->jpegQuality;
             spec.supersampling = o->supersampling;
+            spec.frames = o->frames;
+            spec.ice = synth::parseIceKind(o->ice);
+            spec.motion = synth::parseMotionKind(o->motion);
+            spec.background = synth::parseBackground(o->background);
+            spec.lightChange = o->lightChange;
             const synth::SyntheticScene scene = synth::renderScene(spec);
+            removeOldCaptures(o->out);
             synth::writeScene(scene, spec, o->out, o->truthMaps);
-            std::cout << nlohmann::json{{"out", o->out}, {"scene", o->scene}, {"ice_volume_mm3", scene.iceVolumeMm3}}.dump()
+            if (spec.frames > 1) {
+                const std::filesystem::path out = o->out;
+                writeRecording(out / "before", scene.beforeJpeg, spec.frameSize);
+                writeRecording(out / "after", scene.afterJpeg, spec.frameSize);
+            }
+            std::cout << nlohmann::json{{"out", o->out}, {"scene", o->scene}, {"ice_volume_mm3", scene.iceVolumeMm3},
+                                      {"frames", spec.frames}}
+                             .dump()
                       << "\n";
             return 0;
         };

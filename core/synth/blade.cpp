@@ -1,0 +1,149 @@
+// The blade and its ice. The ice is a height field over the same triangulated planform as the
+// clean surface, so its volume is exact for what is rendered (geometry.hpp: iceVolumeMm3). Three
+// kinds of ice, each as it forms on a parked blade:
+//   leading-edge  accretion decaying over a quarter of the chord plus a thin glaze running back to
+//                 about half chord, growing towards the tip (accretion scales with the local
+//                 speed) and leaving the root clean;
+//   glaze-all     a thin layer over the whole visible surface, trailing edge, root and tip
+//                 included, somewhat thicker towards the leading edge and the tip;
+//   patches       a few soft-edged, rough rime patches anywhere on the blade, placed by the seed.
+#include "core/synth/blade.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include "core/synth/texture.hpp"
+
+namespace icewatch::synth {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kBladeLengthMm = 820.0;
+constexpr double kRootChordMm = 120.0;
+constexpr double kTipChordMm = 32.0;
+constexpr double kAirfoilThickness = 0.12;  // NACA 0012 half-thickness seen from the suction side
+constexpr double kPitchAxisChord = 0.3;
+
+double smoothstep(double e0, double e1, double x) {
+    const double t = std::clamp((x - e0) / (e1 - e0), 0.0, 1.0);
+    return t * t * (3.0 - 2.0 * t);
+}
+
+// A rime patch: an ellipse in (span mm, chord fraction), so that it narrows with the chord and
+// stays on the blade.
+struct Patch {
+    double centreXMm, centreChord, radiusXMm, radiusChord, height;
+};
+
+std::vector<Patch> drawPatches(std::uint32_t seed) {
+    std::mt19937 random(seed ^ 0x50617463u);
+    auto uniform = [&random](double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(random); };
+    std::vector<Patch> patches(static_cast<std::size_t>(4 + random() % 4));
+    for (Patch& p : patches) {
+        p = {(uniform(0.06, 0.94) - 0.5) * kBladeLengthMm, uniform(0.32, 0.68), uniform(50, 110), uniform(0.2, 0.3),
+             uniform(0.6, 1.4)};
+    }
+    return patches;
+}
+
+// Ice thickness for amplitude 1 at span position spanPos (0 root .. 1 tip), chord position c
+// (0 leading edge .. 1 trailing edge), planform point (x, y).
+class IceShape {
+public:
+    IceShape(IceKind kind, std::uint32_t seed) : kind_(kind), seed_(seed) {
+        if (kind == IceKind::Patches) patches_ = drawPatches(seed);
+    }
+
+    double operator()(double spanPos, double c, double x, double y) const {
+        switch (kind_) {
+            case IceKind::LeadingEdge: {
+                const double spanWeight = smoothstep(0.2, 0.5, spanPos) * (0.8 + 0.4 * spanPos);
+                const double shape =
+                    std::exp(-c / 0.25) * (1.0 - smoothstep(0.4, 0.6, c)) + 0.3 * (1.0 - smoothstep(0.3, 0.55, c));
+                return spanWeight * shape * (1.0 + 0.2 * fractalNoise(x, y, 15.0, 2, seed_ + 500));
+            }
+            case IceKind::GlazeAll: {
+                const double towardsEdgeAndTip = (1.0 + 1.2 * std::exp(-c / 0.15)) * (0.7 + 0.6 * spanPos);
+                return towardsEdgeAndTip * (1.0 + 0.1 * fractalNoise(x, y, 20.0, 2, seed_ + 600));
+            }
+            case IceKind::Patches: {
+                double thickness = 0.0;
+                for (const Patch& p : patches_) {
+                    const double dx = (x - p.centreXMm) / p.radiusXMm, dc = (c - p.centreChord) / p.radiusChord;
+                    const double d2 = dx * dx + dc * dc;
+                    // Flat-topped with a soft edge over the outer 40 % of the radius.
+                    if (d2 < 1.0) thickness = std::max(thickness, p.height * (1.0 - smoothstep(0.6, 1.0, std::sqrt(d2))));
+                }
+                // Rime is rough: its surface varies by a third on a scale of millimetres.
+                return thickness * std::max(0.0, 1.0 + 0.35 * fractalNoise(x, y, 6.0, 3, seed_ + 800));
+            }
+        }
+        return 0.0;
+    }
+
+private:
+    IceKind kind_;
+    std::uint32_t seed_;
+    std::vector<Patch> patches_;
+};
+
+}  // namespace
+
+GridSurface bladeSurface(IceKind ice, std::uint32_t seed) {
+    const IceShape iceShape(ice, seed);
+    GridSurface s;
+    s.nu = 410;
+    s.nv = 96;
+    s.local.resize(static_cast<std::size_t>(s.nu + 1) * (s.nv + 1));
+    s.ice.resize(s.local.size());
+    for (int j = 0; j <= s.nv; ++j) {
+        const double c = 0.5 * (1.0 - std::cos(kPi * j / s.nv));  // dense at both edges
+        for (int i = 0; i <= s.nu; ++i) {
+            const double spanPos = static_cast<double>(i) / s.nu;
+            const double x = (spanPos - 0.5) * kBladeLengthMm;
+            const double chord = kRootChordMm + (kTipChordMm - kRootChordMm) * spanPos;
+            const double y = (c - kPitchAxisChord) * chord;
+            const double h = 5.0 * kAirfoilThickness * chord *
+                             (0.2969 * std::sqrt(c) - 0.1260 * c - 0.3516 * c * c + 0.2843 * c * c * c -
+                              0.1036 * c * c * c * c);
+            s.local[s.index(i, j)] = {x, y, std::max(0.0, h)};
+            s.ice[s.index(i, j)] = static_cast<float>(iceShape(spanPos, c, x, y));
+        }
+    }
+    return s;
+}
+
+Mesh bladeMesh(const GridSurface& s, double iceScale, const Pose& pose, const Look& look) {
+    Mesh mesh;
+    mesh.material = kMaterialBlade;
+    mesh.vertices.resize(s.local.size());
+    for (std::size_t k = 0; k < s.local.size(); ++k) {
+        const cv::Vec3d& p = s.local[k];
+        mesh.vertices[k] = pose.toCamera(p[0], p[1], p[2] + iceScale * s.ice[k]);
+    }
+    const auto normals = gridNormals(s, mesh.vertices);
+    mesh.attributes.resize(s.local.size());
+    for (std::size_t k = 0; k < s.local.size(); ++k) {
+        mesh.attributes[k] = {static_cast<float>(s.local[k][0]), static_cast<float>(s.local[k][1]),
+                              lambert(look, normals[k]), static_cast<float>(iceScale * s.ice[k])};
+    }
+    mesh.triangles = gridTriangles(s.nu, s.nv);
+    return mesh;
+}
+
+std::vector<cv::Vec3d> bladeOutline(const GridSurface& s, const Pose& pose, int stride) {
+    std::vector<cv::Vec3d> outline;
+    for (int i = 0; i <= s.nu; i += stride) {
+        const cv::Vec3d& p = s.local[s.index(i, 0)];
+        outline.push_back(pose.toCamera(p[0], p[1], 0));
+    }
+    for (int i = s.nu; i >= 0; i -= stride) {
+        const cv::Vec3d& p = s.local[s.index(i, s.nv)];
+        outline.push_back(pose.toCamera(p[0], p[1], 0));
+    }
+    return outline;
+}
+
+}  // namespace icewatch::synth

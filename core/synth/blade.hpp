@@ -1,0 +1,22 @@
+#pragma once
+
+#include <cstdint>
+
+#include "core/synth/geometry.hpp"
+#include "core/synth/scene.hpp"
+
+namespace icewatch::synth {
+
+// The seed paper's model blade as a grid over its planform (x along the span, root at -x, y along
+// the chord, leading edge at -y, h the suction side's height above the flat pressure side), with
+// the ice of the given kind for amplitude 1 (its volume is scaled afterwards).
+GridSurface bladeSurface(IceKind ice, std::uint32_t seed);
+
+// The blade as rendered: clean (iceScale 0) or iced, posed in the camera frame.
+Mesh bladeMesh(const GridSurface& s, double iceScale, const Pose& pose, const Look& look);
+
+// The blade's outline on its flat side, leading edge root to tip then trailing edge tip to root,
+// every stride-th grid point, posed in the camera frame.
+std::vector<cv::Vec3d> bladeOutline(const GridSurface& s, const Pose& pose, int stride);
+
+}  // namespace icewatch::synth

@@ -1,0 +1,23 @@
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+namespace icewatch::synth {
+
+// How the camera turns the light of one capture into the frames it delivers.
+struct Exposure {
+    double gain = 1.0;        // the scene's illumination relative to the baseline capture's
+    double noiseSigma = 1.5;  // Gaussian sensor noise, grey levels (0..255)
+    int jpegQuality = 90;     // MJPEG compression as the camera applies it, 1..100
+};
+
+// The frames of one capture, each exactly as the camera's MJPEG stream would deliver it: the
+// noiseless side-by-side render (CV_32F, 0..1) times the gain, plus noise of its own (one seed per
+// frame), rounded and saturated to 8 bits, encoded as a BGR JPEG.
+std::vector<std::vector<uchar>> exposeFrames(const cv::Mat& light, const Exposure& exposure,
+                                             const std::vector<std::uint32_t>& noiseSeeds);
+
+}  // namespace icewatch::synth

@@ -1,0 +1,24 @@
+#pragma once
+
+#include <cstdint>
+
+#include <opencv2/core.hpp>
+
+#include "core/synth/look.hpp"
+#include "core/synth/scene.hpp"
+
+namespace icewatch::synth {
+
+// Everything the shading of a sample depends on besides the sample itself.
+struct Shading {
+    Look look;
+    IceKind ice = IceKind::LeadingEdge;
+    std::uint32_t seed = 1;
+};
+
+// Light (0..1, before the camera's gain) of one sample from its material and its attributes
+// (surface coordinates a, b in mm, Lambert factor, ice thickness in mm); material < 0 is the sky,
+// skyY its height in the image (0 bottom .. 1 top).
+float shadeSample(const Shading& shading, int material, const cv::Vec4f& a, float skyY);
+
+}  // namespace icewatch::synth

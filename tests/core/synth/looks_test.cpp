@@ -1,0 +1,215 @@
+// The renderer's variety: ice kinds, motion, background, light change and the seed's look, each
+// changing the truth exactly as the geometry says.
+#include <gtest/gtest.h>
+
+#include <opencv2/imgproc.hpp>
+
+#include "core/common/error.hpp"
+#include "core/common/side_by_side.hpp"
+#include "core/synth/scene.hpp"
+
+namespace icewatch::synth {
+namespace {
+
+SceneSpec smallBlade(IceKind ice, MotionKind motion = MotionKind::Small, Background background = Background::Sky) {
+    SceneSpec spec;
+    spec.iceVolumeMm3 = 97609;
+    spec.frameSize = {640, 240};
+    spec.supersampling = 2;
+    spec.noiseSigma = 0;
+    spec.jpegQuality = 100;
+    spec.ice = ice;
+    spec.motion = motion;
+    spec.background = background;
+    return spec;
+}
+
+cv::Mat leftGrey(const cv::Mat& frame) {
+    cv::Mat grey, out;
+    cv::cvtColor(splitSideBySide(frame).left, grey, cv::COLOR_BGR2GRAY);
+    grey.convertTo(out, CV_32F);
+    return out;
+}
+
+// Zero-mean normalised correlation of a and b over mask.
+double correlation(const cv::Mat& a, const cv::Mat& b, const cv::Mat& mask) {
+    cv::Scalar meanA, sdA, meanB, sdB;
+    cv::meanStdDev(a, meanA, sdA, mask);
+    cv::meanStdDev(b, meanB, sdB, mask);
+    const cv::Mat product = (a - meanA[0]).mul(b - meanB[0]);
+    return cv::mean(product, mask)[0] / (sdA[0] * sdB[0]);
+}
+
+// Fine texture: what is left after a 7x7 box blur.
+cv::Mat detail(const cv::Mat& grey) {
+    cv::Mat blurred;
+    cv::blur(grey, blurred, {7, 7});
+    return grey - blurred;
+}
+
+TEST(SynthLooks, EveryIceKindCarriesExactlyTheRequestedVolume) {
+    for (const IceKind ice : {IceKind::LeadingEdge, IceKind::GlazeAll, IceKind::Patches}) {
+        for (const double volume : {97609.0, 257391.0}) {
+            SceneSpec spec = smallBlade(ice);
+            spec.iceVolumeMm3 = volume;
+            spec.frameSize = {128, 48};  // the volume comes from the geometry, not from the pixels
+            spec.supersampling = 1;
+            const SyntheticScene scene = renderScene(spec);
+            EXPECT_NEAR(scene.iceVolumeMm3, volume, 1e-9 * volume) << iceKindName(ice);
+            EXPECT_GT(scene.maxIceThicknessMm, 0.0);
+        }
+    }
+}
+
+TEST(SynthLooks, GlazeCoversTheWholeBladeThinlyAndLetsItsTextureThrough) {
+    const SyntheticScene scene = renderScene(smallBlade(IceKind::GlazeAll, MotionKind::None));
+    const cv::Mat object = scene.afterDisparity > 0;
+    ASSERT_GT(cv::countNonZero(object), 2000);
+    EXPECT_EQ(cv::countNonZero(object & (scene.afterIceMm <= 0)), 0);  // trailing edge, root and tip too
+    double minIce = 0, maxIce = 0;
+    cv::minMaxLoc(scene.afterIceMm, &minIce, &maxIce, nullptr, nullptr, object);
+    EXPECT_GT(minIce, 0.2);
+    EXPECT_LT(maxIce, 8.0);  // thin: the volume is spread over the whole blade
+    // The composite's texture shows through, whitened and of lower contrast.
+    const cv::Mat before = leftGrey(scene.before), after = leftGrey(scene.after);
+    cv::Mat inside;
+    cv::erode(object & (scene.beforeDisparity > 0), inside, cv::Mat(), {-1, -1}, 3);
+    EXPECT_GT(correlation(detail(before), detail(after), inside), 0.6);
+    cv::Scalar meanBefore, sdBefore, meanAfter, sdAfter;
+    cv::meanStdDev(detail(before), meanBefore, sdBefore, inside);
+    cv::meanStdDev(detail(after), meanAfter, sdAfter, inside);
+    EXPECT_LT(sdAfter[0], sdBefore[0]);
+    EXPECT_GT(cv::mean(after, inside)[0], cv::mean(before, inside)[0] + 5.0);
+}
+
+TEST(SynthLooks, RimePatchesAreOpaqueWhiteAndLeaveMostOfTheBladeClean) {
+    const SyntheticScene scene = renderScene(smallBlade(IceKind::Patches, MotionKind::None));
+    const cv::Mat object = scene.afterDisparity > 0;
+    const double iced = cv::countNonZero(object & (scene.afterIceMm > 0)) / double(cv::countNonZero(object));
+    EXPECT_GT(iced, 0.03);
+    EXPECT_LT(iced, 0.6);
+    const cv::Mat before = leftGrey(scene.before), after = leftGrey(scene.after);
+    cv::Mat thick;
+    cv::erode(object & (scene.afterIceMm > 2.0) & (scene.beforeDisparity > 0), thick, cv::Mat(), {-1, -1}, 2);
+    ASSERT_GT(cv::countNonZero(thick), 50);
+    // Opaque: the composite's texture is gone under the rime, which has a texture of its own.
+    EXPECT_LT(std::abs(correlation(detail(before), detail(after), thick)), 0.3);
+    EXPECT_GT(cv::mean(after, thick)[0], cv::mean(before, thick)[0] + 20.0);
+}
+
+TEST(SynthLooks, NoMotionLeavesEverythingButTheIceWhereItWas) {
+    const SyntheticScene still = renderScene(smallBlade(IceKind::LeadingEdge, MotionKind::None));
+    EXPECT_EQ(cv::norm(still.motion.translationMm), 0.0);
+    EXPECT_EQ(cv::norm(still.motion.rotationDeg), 0.0);
+    const cv::Mat clean = (still.afterIceMm == 0) & (still.beforeDisparity > 0);
+    ASSERT_GT(cv::countNonZero(clean), 1000);
+    EXPECT_EQ(cv::norm(still.beforeDisparity, still.afterDisparity, cv::NORM_INF, clean), 0.0);
+    EXPECT_GT(cv::countNonZero(still.afterIceMm > 0), 100);
+    // Small motion moves the clean surface too.
+    const SyntheticScene moved = renderScene(smallBlade(IceKind::LeadingEdge, MotionKind::Small));
+    const cv::Mat movedClean = (moved.afterIceMm == 0) & (moved.beforeDisparity > 0) & (moved.afterDisparity > 0);
+    EXPECT_GT(cv::norm(moved.beforeDisparity, moved.afterDisparity, cv::NORM_INF, movedClean), 0.01);
+}
+
+TEST(SynthLooks, TableFillsTheViewAroundTheBladeWithTexture) {
+    const SyntheticScene sky = renderScene(smallBlade(IceKind::LeadingEdge));
+    const SyntheticScene table = renderScene(smallBlade(IceKind::LeadingEdge, MotionKind::Small, Background::Table));
+    // Every pixel sees a surface at a known depth: the truth is valid around the blade too.
+    EXPECT_EQ(cv::countNonZero(table.beforeDisparity <= 0), 0);
+    EXPECT_EQ(cv::countNonZero(table.afterDisparity <= 0), 0);
+    // Around the blade the table lies just behind it: the same depth, give or take the tilt.
+    cv::Mat blade = cv::Mat::zeros(table.beforeDisparity.size(), CV_8U), around;
+    std::vector<cv::Point> outline;
+    for (const auto& p : table.roi) outline.emplace_back(cvRound(p.x), cvRound(p.y));
+    cv::fillPoly(blade, std::vector<std::vector<cv::Point>>{outline}, cv::Scalar(255));
+    cv::dilate(blade, around, cv::Mat(), {-1, -1}, 16);
+    cv::dilate(blade, blade, cv::Mat(), {-1, -1}, 5);  // clear of the outline's own edge
+    around &= ~blade;
+    const double bladeDisparity = cv::mean(sky.beforeDisparity, sky.beforeDisparity > 0)[0];
+    EXPECT_NEAR(cv::mean(table.beforeDisparity, around)[0], bladeDisparity, 0.03 * bladeDisparity);
+    // A clearly textured surface where the sky was featureless.
+    cv::Scalar mean, sdTable, sdSky;
+    cv::meanStdDev(detail(leftGrey(table.before)), mean, sdTable, around);
+    cv::meanStdDev(detail(leftGrey(sky.before)), mean, sdSky, around);
+    EXPECT_GT(sdTable[0], 2.0);
+    EXPECT_GT(sdTable[0], 5.0 * sdSky[0]);
+    // The blade's ice is the only ice.
+    EXPECT_NEAR(table.iceVolumeMm3, 97609, 1e-6 * 97609);
+    EXPECT_EQ(cv::countNonZero((table.afterIceMm > 0) & ~blade), 0);
+}
+
+TEST(SynthLooks, BlockOnATableKeepsItsVolume) {
+    SceneSpec spec = smallBlade(IceKind::LeadingEdge, MotionKind::Small, Background::Table);
+    spec.kind = SceneKind::Block;
+    spec.iceVolumeMm3 = 417391;
+    const SyntheticScene scene = renderScene(spec);
+    EXPECT_DOUBLE_EQ(scene.iceVolumeMm3, 417391);
+    EXPECT_EQ(cv::countNonZero(scene.beforeDisparity <= 0), 0);
+}
+
+TEST(SynthLooks, LightChangeScalesTheCurrentCaptureOnly) {
+    SceneSpec spec = smallBlade(IceKind::LeadingEdge);
+    const SyntheticScene normal = renderScene(spec);
+    spec.lightChange = 0.7;
+    const SyntheticScene darker = renderScene(spec);
+    EXPECT_EQ(cv::norm(normal.before, darker.before, cv::NORM_INF), 0.0);
+    EXPECT_NEAR(cv::mean(darker.after)[0] / cv::mean(normal.after)[0], 0.7, 0.01);
+    // Brighter saturates honestly at 255 instead of wrapping.
+    spec.lightChange = 3.0;
+    const SyntheticScene bright = renderScene(spec);
+    double minGrey = 0;
+    cv::minMaxLoc(leftGrey(bright.after), &minGrey);
+    EXPECT_GT(minGrey, 150.0);
+    EXPECT_GT(cv::countNonZero(leftGrey(bright.after) == 255), 1000);
+}
+
+TEST(SynthLooks, SeedsLookDifferentWithinPlausibleRanges) {
+    double minContrast = 1, maxContrast = 0, minFeature = 100, maxFeature = 0, minLightX = 1, maxLightX = -1;
+    for (std::uint32_t seed = 1; seed <= 30; ++seed) {
+        const Look look = drawLook(seed);
+        EXPECT_NEAR(cv::norm(look.towardsLight), 1.0, 1e-12);
+        EXPECT_LT(look.towardsLight[2], -0.6);  // lit from behind the camera
+        EXPECT_GE(look.compositeContrast, 0.025);  // around the first scenes' 0.035
+        EXPECT_LE(look.compositeContrast, 0.05);
+        EXPECT_GT(look.iceWhiteness, look.compositeAlbedo);
+        minContrast = std::min(minContrast, look.compositeContrast);
+        maxContrast = std::max(maxContrast, look.compositeContrast);
+        minFeature = std::min(minFeature, look.compositeFeatureMm);
+        maxFeature = std::max(maxFeature, look.compositeFeatureMm);
+        minLightX = std::min(minLightX, look.towardsLight[0]);
+        maxLightX = std::max(maxLightX, look.towardsLight[0]);
+    }
+    EXPECT_GT(maxContrast / minContrast, 1.5);
+    EXPECT_GT(maxFeature / minFeature, 1.5);
+    EXPECT_GT(maxLightX - minLightX, 0.3);
+    // The block's lab rig keeps its lamps; only the blade's light varies.
+    EXPECT_EQ(drawLook(7, true).towardsLight, Look{}.towardsLight);
+    EXPECT_EQ(drawLook(7, true).compositeContrast, drawLook(7).compositeContrast);
+    // And the pictures differ accordingly: the same blade, another seed's look.
+    SceneSpec spec = smallBlade(IceKind::LeadingEdge);
+    const SyntheticScene one = renderScene(spec);
+    spec.seed = 2;
+    const SyntheticScene two = renderScene(spec);
+    cv::Scalar mean, sdOne, sdTwo;
+    cv::meanStdDev(detail(leftGrey(one.before)), mean, sdOne, one.beforeDisparity > 0);
+    cv::meanStdDev(detail(leftGrey(two.before)), mean, sdTwo, two.beforeDisparity > 0);
+    EXPECT_GT(std::abs(sdOne[0] - sdTwo[0]) / std::max(sdOne[0], sdTwo[0]), 0.1);
+}
+
+TEST(SynthLooks, ImpossibleOptionsAreRefused) {
+    SceneSpec spec = smallBlade(IceKind::LeadingEdge);
+    spec.lightChange = 0.1;
+    EXPECT_THROW(renderScene(spec), InvalidInput);
+    spec.lightChange = 3.5;
+    EXPECT_THROW(renderScene(spec), InvalidInput);
+    spec = smallBlade(IceKind::Patches);
+    spec.kind = SceneKind::Block;
+    EXPECT_THROW(renderScene(spec), InvalidInput);
+    EXPECT_THROW(parseIceKind("frost"), InvalidInput);
+    EXPECT_THROW(parseMotionKind("large"), InvalidInput);
+    EXPECT_THROW(parseBackground("sea"), InvalidInput);
+    EXPECT_EQ(parseIceKind(iceKindName(IceKind::GlazeAll)), IceKind::GlazeAll);
+}
+
+}  // namespace
+}  // namespace icewatch::synth
