@@ -25,6 +25,8 @@ void CensusImage::create(int w, int h, int wordsPerPixel) {
     width = w;
     height = h;
     words = wordsPerPixel;
+    first = 0;
+    storedWidth = w;
     data.resize(static_cast<std::size_t>(w) * h * wordsPerPixel);
 }
 

@@ -26,7 +26,11 @@ void CostVolume::create(int w, int h, int d) {
     height = h;
     disparities = d;
     stride = paddedDisparities(d);
-    data.resize(static_cast<std::size_t>(w) * h * stride);
+    const std::size_t cells = static_cast<std::size_t>(w) * h * stride;
+    if (cells == data.size()) return;
+    data.clear();
+    data.shrink_to_fit();  // before the new block: never both at once
+    data.resize(cells);
 }
 
 namespace {

@@ -11,14 +11,35 @@ namespace icewatch::stereo {
 
 SgbmMatcher::SgbmMatcher(const Parameters& parameters) : parameters_(parameters) {}
 
-cv::Mat SgbmMatcher::compute(const cv::Mat& left, const cv::Mat& right, int maxDisparity) {
+namespace {
+
+// OpenCV's fixed point: 1/16 px.
+constexpr int kSgbmScale = 16;
+
+// Whether a pixel's best integer match sits on the band's edge, from its fixed-point output.
+// OpenCV fits no sub-pixel offset at the first and last disparity it searched and writes them as
+// they are; inside, the offset is ((S[d-1] - S[d+1]) * 16 + k) / (2k), k = S[d-1] + S[d+1] - 2 S[d],
+// which stays within -7 .. +8 sixteenths of d because S[d] is the least. So best match max-1 reads
+// 16 (max-1) - 7 or more, whether or not OpenCV's range (a multiple of 16) went beyond max; the
+// lower edge (min > 0) reads exactly 16 min.
+bool onBandEdge(int fixedPoint, DisparityRange range) {
+    return fixedPoint >= kSgbmScale * (range.max - 1) - 7 || (range.min > 0 && fixedPoint == kSgbmScale * range.min);
+}
+
+}  // namespace
+
+cv::Mat SgbmMatcher::compute(const cv::Mat& left, const cv::Mat& right, DisparityRange range) {
     const int channels = left.channels();
     const int block = parameters_.sgbmBlockSize;
     // SGBM wants the range as a multiple of 16.
-    const int numDisparities = std::max(16, (maxDisparity + 15) / 16 * 16);
+    const int numDisparities = std::max(16, (range.width() + 15) / 16 * 16);
+    // OpenCV matches the columns from min + numDisparities on only (and its 3-way mode fails
+    // when there are none).
+    if (range.min + numDisparities >= left.cols) return cv::Mat(left.size(), CV_32FC1, cv::Scalar(kInvalidDisparity));
     if (!sgbm_) {
-        sgbm_ = cv::StereoSGBM::create(0, numDisparities, block);
+        sgbm_ = cv::StereoSGBM::create(range.min, numDisparities, block);
     }
+    sgbm_->setMinDisparity(range.min);
     sgbm_->setNumDisparities(numDisparities);
     sgbm_->setBlockSize(block);
     sgbm_->setP1(8 * channels * block * block);
@@ -30,19 +51,27 @@ cv::Mat SgbmMatcher::compute(const cv::Mat& left, const cv::Mat& right, int maxD
     sgbm_->setDisp12MaxDiff(1);
 
     cv::Mat fixedPoint;
-    sgbm_->compute(left, right, fixedPoint);  // CV_16S, disparity × 16, negative = invalid
+    sgbm_->compute(left, right, fixedPoint);  // CV_16S, disparity × 16; invalid: below 16 min
     cv::Mat disparity(fixedPoint.size(), CV_32FC1);
+    cv::Mat edge(fixedPoint.size(), CV_8UC1, cv::Scalar(0));
     for (int y = 0; y < fixedPoint.rows; ++y) {
         const auto* in = fixedPoint.ptr<short>(y);
         auto* out = disparity.ptr<float>(y);
+        auto* onEdge = edge.ptr<std::uint8_t>(y);
         for (int x = 0; x < fixedPoint.cols; ++x) {
-            const float d = in[x] / 16.0f;
-            out[x] = (in[x] < 0 || d >= static_cast<float>(maxDisparity)) ? kInvalidDisparity : d;
+            onEdge[x] = onBandEdge(in[x], range) ? 1 : 0;
+            const bool found = in[x] >= kSgbmScale * range.min && !onEdge[x];
+            out[x] = found ? static_cast<float>(in[x]) / kSgbmScale : kInvalidDisparity;
         }
     }
     if (parameters_.sgbmFillHoles) {
+        // Holes are filled from real matches, and edge pixels stay invalid: filled, they would be
+        // the clamp the band's edge rule refuses.
         fillHolesAlongRows(disparity);
+        disparity.setTo(kInvalidDisparity, edge);
     }
+    // Left of the band's minimum no right pixel lies in the band: nothing there to fill from.
+    disparity.colRange(0, range.min).setTo(kInvalidDisparity);
     return disparity;
 }
 
