@@ -27,7 +27,7 @@ void CensusImage::create(int w, int h, int wordsPerPixel) {
     words = wordsPerPixel;
     first = 0;
     storedWidth = w;
-    data.resize(static_cast<std::size_t>(w) * h * wordsPerPixel);
+    resizeExactly(data, static_cast<std::size_t>(w) * h * wordsPerPixel);
 }
 
 // Integer derivatives are several times faster than float ones, and every test on them below is

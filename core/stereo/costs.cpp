@@ -26,11 +26,7 @@ void CostVolume::create(int w, int h, int d) {
     height = h;
     disparities = d;
     stride = paddedDisparities(d);
-    const std::size_t cells = static_cast<std::size_t>(w) * h * stride;
-    if (cells == data.size()) return;
-    data.clear();
-    data.shrink_to_fit();  // before the new block: never both at once
-    data.resize(cells);
+    resizeExactly(data, static_cast<std::size_t>(w) * h * stride);
 }
 
 namespace {

@@ -36,8 +36,9 @@ struct DisparityRange {
 // The narrowest band: one disparity with a neighbour on either side for the sub-pixel fit.
 inline constexpr int kMinDisparityBand = 3;
 
-// One stereo matcher. Buffers are allocated on the first compute() for an image size and reused
-// for every later pair of the same size; a matcher is not thread-safe (use one per thread).
+// One stereo matcher. Buffers are allocated on the first compute() for an image size and band
+// width and reused for every later pair of the same size and width (a change reallocates them to
+// the new size, smaller ones too); a matcher is not thread-safe (use one per thread).
 class Matcher {
 public:
     explicit Matcher(Method method, const Parameters& parameters = {});

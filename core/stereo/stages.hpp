@@ -25,6 +25,16 @@ inline constexpr std::uint16_t kPadCost = 0xFFFF;
 // Work is split into this many stripes whatever the core count, so results never depend on it.
 inline constexpr int kStripes = 16;
 
+// Resizes a scratch buffer to exactly n elements: a smaller size gives memory back, and the old
+// block is freed before the new one is taken (never both at once). Same size: nothing happens.
+template <class T>
+void resizeExactly(AlignedVector<T>& buffer, std::size_t n) {
+    if (n == buffer.size()) return;
+    buffer.clear();
+    buffer.shrink_to_fit();
+    buffer.resize(n);
+}
+
 inline int paddedDisparities(int disparities) {
     return (disparities + kDisparityAlign - 1) / kDisparityAlign * kDisparityAlign;
 }
