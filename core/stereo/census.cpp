@@ -25,7 +25,9 @@ void CensusImage::create(int w, int h, int wordsPerPixel) {
     width = w;
     height = h;
     words = wordsPerPixel;
-    data.resize(static_cast<std::size_t>(w) * h * wordsPerPixel);
+    first = 0;
+    storedWidth = w;
+    resizeExactly(data, static_cast<std::size_t>(w) * h * wordsPerPixel);
 }
 
 // Integer derivatives are several times faster than float ones, and every test on them below is

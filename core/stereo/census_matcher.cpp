@@ -11,19 +11,40 @@ namespace icewatch::stereo {
 
 using namespace detail;
 
+namespace {
+
+// The grey image the intensity refinement reads, CV_32FC1, from the cleaned 8-bit grey. Given a
+// float input (with its grey after the impulse repair, before smoothing), the float itself
+// wherever the cleaning only repaired impulses: those pixels take the repair. Once smoothing has
+// touched the image, its noise (a Gaussian starts above 1.7 grey levels) dwarfs the 0.29 of
+// rounding, and the smoothed 8-bit grey serves as for 8-bit input. An 8-bit image passed as float
+// thus gives the 8-bit path's image exactly.
+void intensityImage(const cv::Mat& cleaned, const cv::Mat& floatInput, const cv::Mat& repaired, cv::Mat& out) {
+    cleaned.convertTo(out, CV_32F);
+    if (floatInput.empty() || cv::norm(cleaned, repaired, cv::NORM_INF) != 0.0) return;
+    cv::Mat unchanged;
+    cv::compare(cleaned, roundedToEightBits(floatInput), unchanged, cv::CMP_EQ);
+    floatInput.copyTo(out, unchanged);
+}
+
+}  // namespace
+
 CensusMatcher::CensusMatcher(Method method, const Parameters& parameters)
     : method_(method), parameters_(parameters) {}
 
-cv::Mat CensusMatcher::compute(const cv::Mat& left, const cv::Mat& right, int maxDisparity) {
+cv::Mat CensusMatcher::compute(const cv::Mat& left, const cv::Mat& right, DisparityRange range) {
     const Parameters& p = parameters_;
-    // 0. Colour and grey versions of both eyes (grey input is matched as colour with R = G = B).
-    cv::Mat bgrLeft = left, bgrRight = right, greyLeft = left, greyRight = right;
+    // 0. Colour and grey versions of both eyes (grey input is matched as colour with R = G = B); a
+    //    float average is matched on its rounding to 8 bits, all but the intensity refinement.
+    const bool floatInput = left.depth() == CV_32F;
+    const cv::Mat left8 = roundedToEightBits(left), right8 = roundedToEightBits(right);
+    cv::Mat bgrLeft = left8, bgrRight = right8, greyLeft = left8, greyRight = right8;
     if (left.channels() == 1) {
-        cv::cvtColor(left, bgrLeft, cv::COLOR_GRAY2BGR);
-        cv::cvtColor(right, bgrRight, cv::COLOR_GRAY2BGR);
+        cv::cvtColor(left8, bgrLeft, cv::COLOR_GRAY2BGR);
+        cv::cvtColor(right8, bgrRight, cv::COLOR_GRAY2BGR);
     } else {
-        cv::cvtColor(left, greyLeft, cv::COLOR_BGR2GRAY);
-        cv::cvtColor(right, greyRight, cv::COLOR_BGR2GRAY);
+        cv::cvtColor(left8, greyLeft, cv::COLOR_BGR2GRAY);
+        cv::cvtColor(right8, greyRight, cv::COLOR_BGR2GRAY);
     }
     if (p.impulseThreshold > 0 || p.noiseSmoothingGain > 0.0) {
         // Copies first: the caller's images are not ours to change.
@@ -32,7 +53,15 @@ cv::Mat CensusMatcher::compute(const cv::Mat& left, const cv::Mat& right, int ma
         greyLeft = greyLeft.clone();
         greyRight = greyRight.clone();
     }
-    costs_.create(left.cols, left.rows, maxDisparity);
+    // The band [min, max) is the full range's problem [0, max - min) on the left image's columns
+    // min .. W-1 against the right image's 0 .. W-1-min: a left pixel x left of min has no right
+    // pixel in the band, and a right pixel at W-min or beyond no left one. Every stage below runs
+    // unchanged on those column views; what it needs of whole images (noise, Census codes, edges,
+    // Harris' largest response) is computed on the whole images, so the costs are the full
+    // range's, cell for cell. Only the buffers of the views' size are allocated.
+    const int viewWidth = left.cols - range.min, disparities = range.width();
+    const cv::Rect leftView(range.min, 0, viewWidth, left.rows), rightView(0, 0, viewWidth, left.rows);
+    costs_.create(viewWidth, left.rows, disparities);
 
     // 1. Per eye: impulse repair and noise-adaptive smoothing, then what the matching cost needs of
     //    the image. The two eyes run as two tasks side by side (the stages inside run serially
@@ -41,10 +70,12 @@ cv::Mat CensusMatcher::compute(const cv::Mat& left, const cv::Mat& right, int ma
     CostInputs leftInputs{{}, {}, {}, &leftCensus_};
     CostInputs rightInputs{{}, {}, {}, &rightCensus_};
     double noise[2] = {0.0, 0.0};
+    cv::Mat repaired[2];  // float input: grey after the impulse repair, before any smoothing
     auto cleanEye = [&](bool isLeft) {
         cv::Mat& bgr = isLeft ? bgrLeft : bgrRight;
         cv::Mat& grey = isLeft ? greyLeft : greyRight;
         if (p.impulseThreshold > 0) removeImpulses(bgr, grey, p.impulseThreshold, p.impulseRailThreshold);
+        if (floatInput) repaired[isLeft ? 0 : 1] = grey.clone();
         // The noise the Census band has to absorb is what the smoothing left.
         const bool bandFollowsNoise = method_ == Method::Paper && p.censusAlphaNoiseGain > 0.0;
         smoothNoise(bgr, grey, p.noiseSmoothingGain, p.noiseGreyPassRange,
@@ -53,18 +84,22 @@ cv::Mat CensusMatcher::compute(const cv::Mat& left, const cv::Mat& right, int ma
     auto prepareEye = [&](bool isLeft, int alpha) {
         cv::Mat& bgr = isLeft ? bgrLeft : bgrRight;
         cv::Mat& grey = isLeft ? greyLeft : greyRight;
+        const cv::Rect& view = isLeft ? leftView : rightView;
         CostInputs& inputs = isLeft ? leftInputs : rightInputs;
         CensusImage& census = isLeft ? leftCensus_ : rightCensus_;
-        inputs.bgr = bgr;
+        inputs.bgr = bgr(view);
         if (method_ == Method::Paper) {
             // Improved Census: window by gradient (left only: the left pixel decides, the right
             // image carries both codes), edge and corner bits; the gradient term's magnitudes.
-            if (isLeft) inputs.windowMask = censusWindowMask(grey, p.censusGradientThreshold);
-            improvedCensus(grey, edgeCornerBits(grey, p), alpha, inputs.windowMask, census);
-            inputs.gradient = channelGradientMagnitudes(bgr);
+            cv::Mat windowMask;
+            if (isLeft) windowMask = censusWindowMask(grey, p.censusGradientThreshold);
+            improvedCensus(grey, edgeCornerBits(grey, p), alpha, windowMask, census);
+            if (isLeft) inputs.windowMask = windowMask(view);
+            inputs.gradient = channelGradientMagnitudes(bgr)(view);
         } else {
             meiCensus(grey, census);
         }
+        census.viewColumns(view.x, view.width);
     };
     cv::parallel_for_(cv::Range(0, 2), [&](const cv::Range& r) {
         for (int eye = r.start; eye < r.end; ++eye) cleanEye(eye == 0);
@@ -77,11 +112,12 @@ cv::Mat CensusMatcher::compute(const cv::Mat& left, const cv::Mat& right, int ma
 
     // 2. Cross-based support regions of both images (the right one mirrored, so that the right view
     //    is the left view of the mirrored pair and every stage applies to it unchanged).
-    const bool rightView = p.rightViewAggregation;
+    const bool ownRightPass = p.rightViewAggregation;
+    const cv::Mat viewLeft = bgrLeft(leftView);
     cv::Mat mirroredRight;
-    computeCrossArms(bgrLeft, p, arms_);
-    if (rightView) {
-        cv::flip(bgrRight, mirroredRight, 1);
+    computeCrossArms(viewLeft, p, arms_);
+    if (ownRightPass) {
+        cv::flip(bgrRight(rightView), mirroredRight, 1);
         computeCrossArms(mirroredRight, p, rightArms_);
         rightCosts_.create(costs_.width, costs_.height, costs_.disparities);
     }
@@ -92,10 +128,10 @@ cv::Mat CensusMatcher::compute(const cv::Mat& left, const cv::Mat& right, int ma
     const bool rowsFirst = p.crossIterations > 0;
     const std::uint16_t invalid = method_ == Method::Paper ? kPaperInvalidCost : kAdCensusInvalidCost;
     const CostRowHook rowDone = [&](int y) {
-        if (rightView) rightViewCostsRow(costs_, invalid, rightCosts_, y);
+        if (ownRightPass) rightViewCostsRow(costs_, invalid, rightCosts_, y);
         if (!rowsFirst) return;
         meanAlongRow(arms_, costs_, y);
-        if (rightView) meanAlongRow(rightArms_, rightCosts_, y);
+        if (ownRightPass) meanAlongRow(rightArms_, rightCosts_, y);
     };
     if (method_ == Method::Paper) {
         paperCost(leftInputs, rightInputs, p, costs_, rowDone);
@@ -108,7 +144,7 @@ cv::Mat CensusMatcher::compute(const cv::Mat& left, const cv::Mat& right, int ma
     //    the left view's aggregated volume is the one left in scratch_ for the refinement.
     cv::Mat rightDisparity;
     const ScanlinePenalties penalties = scanlinePenalties(p);
-    if (rightView) {
+    if (ownRightPass) {
         cv::Mat mirroredDisparity;
         aggregateCross(rightArms_, p.crossIterations, rightCosts_, rowsFirst);
         aggregateScanlines(rightCosts_, mirroredRight, penalties, scratch_, p.rightViewScanlineDirections, nullptr,
@@ -125,25 +161,26 @@ cv::Mat CensusMatcher::compute(const cv::Mat& left, const cv::Mat& right, int ma
     // The right view's volume is free by now: it lends the scanline pass its scratch.
     cv::Mat disparity;
     if (p.rightViewAggregation) {
-        aggregateScanlines(costs_, bgrLeft, penalties, scratch_, 8, &rightCosts_, &disparity);
+        aggregateScanlines(costs_, viewLeft, penalties, scratch_, 8, &rightCosts_, &disparity);
     } else {
-        aggregateScanlines(costs_, bgrLeft, penalties, scratch_, 8);
+        aggregateScanlines(costs_, viewLeft, penalties, scratch_, 8);
         winnerTakesAll(scratch_, disparity, rightDisparity);
     }
 
     // 6. Outliers: left-right check (occluded or mismatched), region voting, interpolation;
     //    disparity edges moved to the side whose cost is lower.
-    cv::Mat labels = leftRightCheck(disparity, rightDisparity, maxDisparity, p.lrMaxDifference);
+    cv::Mat labels = leftRightCheck(disparity, rightDisparity, disparities, p.lrMaxDifference);
     regionVoting(arms_, p, disparity, labels);
     interpolateOutliers(disparity, labels);
     if (p.discontinuityAdjustment) adjustDiscontinuities(scratch_, disparity);
 
-    // 7. Sub-pixel: fit on the aggregated cost, intensity refinement against pixel locking;
-    //    Mei's final 3x3 median.
-    cv::Mat refined = subpixelRefine(disparity, scratch_);
+    // 7. Sub-pixel: fit on the aggregated cost (the band's edge invalid), back to the whole
+    //    image's columns; intensity refinement against pixel locking; Mei's final 3x3 median.
+    cv::Mat refined(left.size(), CV_32FC1, cv::Scalar(kInvalidDisparity));
+    subpixelRefine(disparity, scratch_, range).copyTo(refined(leftView));
     if (p.subpixelIntensityRefinement) {
-        greyLeft.convertTo(floatLeft_, CV_32F);
-        greyRight.convertTo(floatRight_, CV_32F);
+        intensityImage(greyLeft, floatInput ? left : cv::Mat(), repaired[0], floatLeft_);
+        intensityImage(greyRight, floatInput ? right : cv::Mat(), repaired[1], floatRight_);
         refineSubpixelByIntensity(floatLeft_, floatRight_, p.subpixelWindowRadius, p.subpixelIterations,
                                   static_cast<float>(p.subpixelMaxChange), refined);
     }

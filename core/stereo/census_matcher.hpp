@@ -9,12 +9,13 @@
 namespace icewatch::stereo {
 
 // The Census-based methods, Paper (Wei et al. 2025) and AdCensus (Mei et al. 2011): the same
-// stages with a different matching cost. Owns its scratch, allocated once per image size.
+// stages with a different matching cost. Owns its scratch, allocated once per image size and band
+// width.
 class CensusMatcher {
 public:
     CensusMatcher(Method method, const Parameters& parameters);
     // Inputs already validated (matcher.cpp).
-    cv::Mat compute(const cv::Mat& left, const cv::Mat& right, int maxDisparity);
+    cv::Mat compute(const cv::Mat& left, const cv::Mat& right, DisparityRange range);
 
 private:
     Method method_;
@@ -26,7 +27,7 @@ private:
     detail::CrossArms arms_;
     detail::CostVolume rightCosts_;  // the right view's own pass (Parameters::rightViewAggregation)
     detail::CrossArms rightArms_;
-    cv::Mat floatLeft_, floatRight_;  // grey eyes in float for the intensity refinement
+    cv::Mat floatLeft_, floatRight_;  // grey eyes in float for the intensity refinement (intensityImage)
 };
 
 }  // namespace icewatch::stereo

@@ -26,7 +26,7 @@ void CostVolume::create(int w, int h, int d) {
     height = h;
     disparities = d;
     stride = paddedDisparities(d);
-    data.resize(static_cast<std::size_t>(w) * h * stride);
+    resizeExactly(data, static_cast<std::size_t>(w) * h * stride);
 }
 
 namespace {

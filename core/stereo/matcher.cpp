@@ -25,7 +25,7 @@ std::string methodName(Method method) {
     return "unknown";
 }
 
-void validateInput(const cv::Mat& left, const cv::Mat& right, int maxDisparity) {
+void validateInput(const cv::Mat& left, const cv::Mat& right, DisparityRange range) {
     if (left.empty() || right.empty()) {
         throw InvalidInput("stereo pair: an image is empty");
     }
@@ -34,14 +34,28 @@ void validateInput(const cv::Mat& left, const cv::Mat& right, int maxDisparity) 
                            std::to_string(left.rows) + ", right " + std::to_string(right.cols) + "x" +
                            std::to_string(right.rows) + ")");
     }
-    if (left.type() != right.type() || (left.type() != CV_8UC3 && left.type() != CV_8UC1)) {
-        throw InvalidInput("stereo pair: both images must be 8-bit BGR or 8-bit grey of the same type");
+    const int type = left.type();
+    if (type != right.type() || (type != CV_8UC3 && type != CV_8UC1 && type != CV_32FC1)) {
+        throw InvalidInput("stereo pair: both images must be of the same type, 8-bit BGR, 8-bit grey or float grey");
     }
-    if (maxDisparity <= 0 || maxDisparity >= left.cols) {
-        throw InvalidInput("max disparity " + std::to_string(maxDisparity) + " must be in 1.." +
-                           std::to_string(left.cols - 1) + " for an image " + std::to_string(left.cols) +
-                           " wide");
+    if (type == CV_32FC1 && (!cv::checkRange(left) || !cv::checkRange(right))) {
+        throw InvalidInput("stereo pair: a float image holds a value that is not finite (NaN or infinity)");
     }
+    const std::string band = "disparity band [" + std::to_string(range.min) + ", " + std::to_string(range.max) + ")";
+    if (range.min < 0) throw InvalidInput(band + ": the minimum must not be negative");
+    if (range.width() < kMinDisparityBand) {
+        throw InvalidInput(band + ": needs at least " + std::to_string(kMinDisparityBand) + " disparities");
+    }
+    if (range.max >= left.cols) {
+        throw InvalidInput(band + ": max disparity must be below the image width " + std::to_string(left.cols));
+    }
+}
+
+cv::Mat roundedToEightBits(const cv::Mat& image) {
+    if (image.depth() == CV_8U) return image;
+    cv::Mat rounded;
+    image.convertTo(rounded, CV_8U);  // to nearest, saturated at 0 and 255
+    return rounded;
 }
 
 struct Matcher::Impl {
@@ -59,13 +73,18 @@ Matcher::Matcher(Matcher&&) noexcept = default;
 Matcher& Matcher::operator=(Matcher&&) noexcept = default;
 
 cv::Mat Matcher::compute(const cv::Mat& left, const cv::Mat& right, int maxDisparity) {
-    validateInput(left, right, maxDisparity);
+    return compute(left, right, DisparityRange{0, maxDisparity});
+}
+
+cv::Mat Matcher::compute(const cv::Mat& left, const cv::Mat& right, DisparityRange range) {
+    validateInput(left, right, range);
     switch (impl_->method) {
         case Method::Sgbm:
-            return impl_->sgbm.compute(left, right, maxDisparity);
+            // OpenCV's SGBM takes 8-bit images only: a float average is matched on its rounding.
+            return impl_->sgbm.compute(roundedToEightBits(left), roundedToEightBits(right), range);
         case Method::Paper:
         case Method::AdCensus:
-            return impl_->census.compute(left, right, maxDisparity);
+            return impl_->census.compute(left, right, range);
     }
     throw Error(kExitSoftware, "stereo method \"" + methodName(impl_->method) + "\" is not available");
 }

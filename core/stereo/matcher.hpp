@@ -23,8 +23,22 @@ enum class Method {
 Method parseMethod(std::string_view name);
 std::string methodName(Method method);
 
-// One stereo matcher. Buffers are allocated on the first compute() for an image size and reused
-// for every later pair of the same size; a matcher is not thread-safe (use one per thread).
+// The disparities searched: min .. max-1 (OpenCV's minDisparity and minDisparity +
+// numDisparities). A pixel whose best match lies on the band's edge (max-1, or min when min > 0)
+// is reported as kInvalidDisparity, not clamped: its cost was still falling towards a disparity
+// the band leaves out, so the true match may lie beyond, and the sub-pixel fit has no neighbour
+// there to say how far. (Disparity 0 is no such edge: nothing lies beyond it.)
+struct DisparityRange {
+    int min = 0;
+    int max = 0;
+    int width() const { return max - min; }
+};
+// The narrowest band: one disparity with a neighbour on either side for the sub-pixel fit.
+inline constexpr int kMinDisparityBand = 3;
+
+// One stereo matcher. Buffers are allocated on the first compute() for an image size and band
+// width and reused for every later pair of the same size and width (a change reallocates them to
+// the new size, smaller ones too); a matcher is not thread-safe (use one per thread).
 class Matcher {
 public:
     explicit Matcher(Method method, const Parameters& parameters = {});
@@ -32,10 +46,18 @@ public:
     Matcher(Matcher&&) noexcept;
     Matcher& operator=(Matcher&&) noexcept;
 
-    // left, right: a rectified pair, same size, CV_8UC3 (BGR) or CV_8UC1. Disparities searched:
-    // 0 .. maxDisparity-1. Returns the left-view disparity, CV_32FC1, in pixels (sub-pixel), with
-    // kInvalidDisparity where there is none. Throws InvalidInput on bad input (empty, sizes or
-    // types differ, maxDisparity <= 0 or >= width).
+    // left, right: a rectified pair, same size and type: CV_8UC3 (BGR), CV_8UC1, or CV_32FC1 grey
+    // levels 0..255 (the float average of several frames). Float input is matched on its rounding
+    // to 8 bits, except the sub-pixel intensity refinement of the Census methods, which reads the
+    // float image itself (an 8-bit image passed as float gives the same disparities bit for bit);
+    // SGBM sees the rounding only. Disparities searched: range.min .. range.max-1. Returns the
+    // left-view disparity, CV_32FC1, in pixels (sub-pixel), with kInvalidDisparity where there is
+    // none: left of column range.min (no pixel of the right image lies in the band there) and on
+    // the band's edge (DisparityRange explains). Time and memory follow the band's width. Throws
+    // InvalidInput on bad input (empty, sizes or types differ, a value not finite, min < 0, fewer
+    // than kMinDisparityBand disparities, max >= width).
+    cv::Mat compute(const cv::Mat& left, const cv::Mat& right, DisparityRange range);
+    // The band 0 .. maxDisparity-1.
     cv::Mat compute(const cv::Mat& left, const cv::Mat& right, int maxDisparity);
 
     Method method() const;
@@ -47,6 +69,10 @@ private:
 };
 
 // Checks a pair and a disparity range the way every method needs them; throws InvalidInput.
-void validateInput(const cv::Mat& left, const cv::Mat& right, int maxDisparity);
+void validateInput(const cv::Mat& left, const cv::Mat& right, DisparityRange range);
+
+// A float grey image (CV_32FC1) rounded to 8 bits as the integer stages see it; 8-bit images as
+// they are (no copy).
+cv::Mat roundedToEightBits(const cv::Mat& image);
 
 }  // namespace icewatch::stereo

@@ -174,18 +174,22 @@ float subpixelOffset(int costMinus, int cost, int costPlus) {
     return std::clamp(offset, -0.5f, 0.5f);
 }
 
-cv::Mat subpixelRefine(const cv::Mat& disparity, const CostVolume& costs) {
+cv::Mat subpixelRefine(const cv::Mat& disparity, const CostVolume& costs, DisparityRange band) {
+    CV_Assert(band.width() == costs.disparities);
     cv::Mat refined(disparity.size(), CV_32FC1);
+    const int last = costs.disparities - 1;
+    const int firstOnEdge = band.min > 0 ? 0 : -1;  // disparity 0 has nothing beyond it
     forEachStripe(disparity.rows, [&](int, int begin, int end) {
         for (int y = begin; y < end; ++y) {
             const auto* d = disparity.ptr<std::int16_t>(y);
             auto* out = refined.ptr<float>(y);
             for (int x = 0; x < disparity.cols; ++x) {
-                if (d[x] < 0) {
+                if (d[x] < 0 || d[x] == last || d[x] == firstOnEdge) {
                     out[x] = kInvalidDisparity;
                     continue;
                 }
-                out[x] = d[x];
+                // The band's offset in integers first: the float sum is then the full range's.
+                out[x] = static_cast<float>(d[x] + band.min);
                 if (d[x] < 1 || d[x] + 1 >= std::min(costs.disparities, x + 1)) continue;
                 const std::uint16_t* c = costs.at(x, y) + d[x];
                 // Only a local minimum has a shape to fit; filled-in pixels may sit elsewhere.

@@ -2,16 +2,19 @@
 
 #include <opencv2/calib3d.hpp>
 
+#include "core/stereo/matcher.hpp"
 #include "core/stereo/parameters.hpp"
 
 namespace icewatch::stereo {
 
 // OpenCV's StereoSGBM in 3-way mode, wrapped so it answers like our own methods: CV_32F
-// disparities in pixels, kInvalidDisparity where it found none (or holes filled on request).
+// disparities in pixels, kInvalidDisparity where it found none (or holes filled on request) and
+// on the band's edge (DisparityRange).
 class SgbmMatcher {
 public:
     explicit SgbmMatcher(const Parameters& parameters);
-    cv::Mat compute(const cv::Mat& left, const cv::Mat& right, int maxDisparity);
+    // 8-bit inputs already validated (matcher.cpp rounds float ones).
+    cv::Mat compute(const cv::Mat& left, const cv::Mat& right, DisparityRange range);
 
 private:
     Parameters parameters_;

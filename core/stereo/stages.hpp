@@ -10,6 +10,7 @@
 #include <opencv2/core.hpp>
 
 #include "core/common/huge_pages.hpp"
+#include "core/stereo/matcher.hpp"
 #include "core/stereo/parameters.hpp"
 
 namespace icewatch::stereo::detail {
@@ -24,6 +25,16 @@ inline constexpr std::uint16_t kPadCost = 0xFFFF;
 // Work is split into this many stripes whatever the core count, so results never depend on it.
 inline constexpr int kStripes = 16;
 
+// Resizes a scratch buffer to exactly n elements: a smaller size gives memory back, and the old
+// block is freed before the new one is taken (never both at once). Same size: nothing happens.
+template <class T>
+void resizeExactly(AlignedVector<T>& buffer, std::size_t n) {
+    if (n == buffer.size()) return;
+    buffer.clear();
+    buffer.shrink_to_fit();
+    buffer.resize(n);
+}
+
 inline int paddedDisparities(int disparities) {
     return (disparities + kDisparityAlign - 1) / kDisparityAlign * kDisparityAlign;
 }
@@ -36,7 +47,8 @@ struct CostVolume {
     int stride = 0;
     AlignedVector<std::uint16_t> data;
 
-    // Allocates only when the size changes (one allocation per image size).
+    // Allocates only when the number of cells changes (one allocation per image size and band
+    // width), and then exactly that many: a narrower band or a smaller region gives memory back.
     void create(int w, int h, int d);
     std::uint16_t* at(int x, int y) { return data.data() + (static_cast<std::size_t>(y) * width + x) * stride; }
     const std::uint16_t* at(int x, int y) const {
@@ -62,17 +74,27 @@ inline void prefetchCells(const std::uint16_t* cells, int count, bool forWriting
     }
 }
 
-// Per-pixel Census bit strings, `words` 64-bit words per pixel.
+// Per-pixel Census bit strings, `words` 64-bit words per pixel. After viewColumns, at(x, y) reads
+// the stored column first + x: the codes of a column band, computed on the whole image.
 struct CensusImage {
     int width = 0;
     int height = 0;
     int words = 0;
+    int first = 0;        // stored column of the view's column 0
+    int storedWidth = 0;  // pixels per stored row
     AlignedVector<std::uint64_t> data;  // each pixel's words on one cache line
 
     void create(int w, int h, int wordsPerPixel);
-    std::uint64_t* at(int x, int y) { return data.data() + (static_cast<std::size_t>(y) * width + x) * words; }
-    const std::uint64_t* at(int x, int y) const {
-        return data.data() + (static_cast<std::size_t>(y) * width + x) * words;
+    void viewColumns(int firstColumn, int count) {
+        first = firstColumn;
+        width = count;
+    }
+    std::uint64_t* at(int x, int y) { return data.data() + index(x, y); }
+    const std::uint64_t* at(int x, int y) const { return data.data() + index(x, y); }
+
+private:
+    std::size_t index(int x, int y) const {
+        return (static_cast<std::size_t>(y) * storedWidth + first + x) * words;
     }
 };
 
@@ -272,8 +294,10 @@ void interpolateOutliers(cv::Mat& disparity, cv::Mat& labels);
 // than one pixel away) takes the disparity of the neighbour on either side whose aggregated cost
 // at this pixel is lower than its own. Returns how many pixels changed.
 int adjustDiscontinuities(const CostVolume& costs, cv::Mat& disparity);
-// Sub-pixel disparity from the aggregated costs around each integer disparity. CV_32FC1.
-cv::Mat subpixelRefine(const cv::Mat& disparity, const CostVolume& costs);
+// Sub-pixel disparity from the aggregated costs around each integer disparity. CV_32FC1. The
+// volume's index d is disparity d + band.min; a pixel at the band's edge (index
+// band.width() - 1, or 0 when band.min > 0) becomes kInvalidDisparity (DisparityRange explains).
+cv::Mat subpixelRefine(const cv::Mat& disparity, const CostVolume& costs, DisparityRange band);
 // Removes what is left of pixel locking: Gauss-Newton steps of 1-D Lucas-Kanade on the grey
 // images (zero-mean over a (2r+1)^2 window), starting from the fitted disparity and staying
 // within ±maxChange of it. greyLeft, greyRight: CV_32FC1.

@@ -8,6 +8,7 @@
 
 #include "core/common/exit_codes.hpp"
 #include "core/stereo/disparity_io.hpp"
+#include "core/stereo/matcher.hpp"
 #include "tests/support/run_program.hpp"
 #include "tests/support/test_paths.hpp"
 
@@ -49,6 +50,14 @@ TEST(StereoCli, MatchWritesPfmAndPicture) {
         EXPECT_EQ(d.size(), cv::Size(80, 48));
         EXPECT_NEAR(d.at<float>(24, 50), 6.0f, 0.5f) << method;
         EXPECT_EQ(cv::imread(colour.string()).size(), cv::Size(80, 48));
+        // The band [3, 16) holds the truth: the same answer there; nothing left of column 3.
+        const auto banded = dir / (std::string(method) + "-band.pfm");
+        r = test::runProgram({icewatchBin(), "match", "--left", p.left, "--right", p.right, "--min-disp", "3",
+                              "--max-disp", "16", "--method", method, "--out", banded.string()});
+        ASSERT_EQ(r.status, 0) << r.err;
+        const cv::Mat b = stereo::readPfm(banded);
+        EXPECT_EQ(b.at<float>(24, 50), d.at<float>(24, 50)) << method;
+        EXPECT_EQ(b.at<float>(24, 1), stereo::kInvalidDisparity) << method;
     }
 }
 
@@ -66,15 +75,26 @@ TEST(StereoCli, EvalPrintsTheMetricsAsJson) {
     EXPECT_GT(j.at("valid_percent").get<double>(), 99.0);
     // The left 16 columns have no match in the right image; the rest is a clean 6 px shift.
     EXPECT_LT(j.at("bad_percent").get<double>(), 25.0);
+    EXPECT_EQ(j.at("min_disp"), 0);
+    EXPECT_EQ(j.at("max_disp"), 16);
+
+    r = test::runProgram({icewatchBin(), "eval", "--left", p.left, "--right", p.right, "--gt", p.gt, "--gt-scale", "4",
+                          "--mask", p.mask, "--min-disp", "4", "--max-disp", "16", "--json"});
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto banded = nlohmann::json::parse(r.out);
+    EXPECT_EQ(banded.at("min_disp"), 4);
+    EXPECT_LT(banded.at("bad_percent").get<double>(), 25.0);
 }
 
 TEST(StereoCli, BenchReportsBothMethodsAndTheRatio) {
     const auto dir = test::freshTempDir();
     const SmallPair p = writeSmallPair(dir);
     auto r = test::runProgram(
-        {icewatchBin(), "bench", "--left", p.left, "--right", p.right, "--max-disp", "16", "--repeat", "2", "--json"});
+        {icewatchBin(), "bench", "--left", p.left, "--right", p.right, "--min-disp", "2", "--max-disp", "16", "--repeat",
+         "2", "--json"});
     ASSERT_EQ(r.status, 0) << r.err;
     const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j.at("min_disp"), 2);
     EXPECT_GT(j.at("paper_ms").get<double>(), 0.0);
     EXPECT_GT(j.at("sgbm_ms").get<double>(), 0.0);
     EXPECT_NEAR(j.at("ratio").get<double>(), j.at("paper_ms").get<double>() / j.at("sgbm_ms").get<double>(), 1e-9);
@@ -97,9 +117,21 @@ TEST(StereoCli, BadInputGivesAClearErrorAndExitStatus) {
     // Max disparity out of range.
     r = match(p.left, p.right, "0");
     EXPECT_EQ(r.status, kExitDataErr);
-    EXPECT_NE(r.err.find("max disparity 0"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("disparity band [0, 0)"), std::string::npos) << r.err;
     EXPECT_EQ(match(p.left, p.right, "80").status, kExitDataErr);
     EXPECT_EQ(match(p.left, p.right, "-5").status, kExitDataErr);
+    // A band too narrow, or below zero.
+    auto band = [&](const std::string& minDisp, const std::string& maxDisp) {
+        return test::runProgram({icewatchBin(), "match", "--left", p.left, "--right", p.right, "--min-disp", minDisp,
+                                 "--max-disp", maxDisp, "--out", out});
+    };
+    r = band("15", "16");
+    EXPECT_EQ(r.status, kExitDataErr);
+    EXPECT_NE(r.err.find("disparity band [15, 16): needs at least 3 disparities"), std::string::npos) << r.err;
+    r = band("-2", "16");
+    EXPECT_EQ(r.status, kExitDataErr);
+    EXPECT_NE(r.err.find("must not be negative"), std::string::npos) << r.err;
+    EXPECT_EQ(band("x", "16").status, kExitUsage);
     // Missing and unreadable (not an image, empty) files.
     r = match((dir / "missing.png").string(), p.right, "16");
     EXPECT_EQ(r.status, kExitNoInput);

@@ -20,9 +20,9 @@ double median(std::vector<double> values) {
     return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
 
-double timeOnce(stereo::Matcher& matcher, const cv::Mat& left, const cv::Mat& right, int maxDisparity) {
+double timeOnce(stereo::Matcher& matcher, const cv::Mat& left, const cv::Mat& right, stereo::DisparityRange range) {
     const double start = nowMs();
-    const cv::Mat disparity = matcher.compute(left, right, maxDisparity);
+    const cv::Mat disparity = matcher.compute(left, right, range);
     return nowMs() - start;
 }
 
@@ -44,19 +44,19 @@ void addBenchCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
             stereo::Matcher paper(stereo::Method::Paper, parameters);
             stereo::Matcher sgbm(stereo::Method::Sgbm, parameters);
             // One untimed run each: buffers are allocated once per image size, as in service.
-            timeOnce(paper, left, right, options->maxDisparity);
-            timeOnce(sgbm, left, right, options->maxDisparity);
+            timeOnce(paper, left, right, options->range());
+            timeOnce(sgbm, left, right, options->range());
             std::vector<double> paperMs, sgbmMs;
             for (int i = 0; i < *repeat; ++i) {
-                paperMs.push_back(timeOnce(paper, left, right, options->maxDisparity));
-                sgbmMs.push_back(timeOnce(sgbm, left, right, options->maxDisparity));
+                paperMs.push_back(timeOnce(paper, left, right, options->range()));
+                sgbmMs.push_back(timeOnce(sgbm, left, right, options->range()));
             }
             const double p = median(paperMs), s = median(sgbmMs);
             const nlohmann::json result{{"paper_ms", p},         {"sgbm_ms", s},
                                         {"ratio", p / s},        {"repeat", *repeat},
                                         {"threads", cv::getNumThreads()},
                                         {"width", left.cols},    {"height", left.rows},
-                                        {"max_disp", options->maxDisparity}};
+                                        {"min_disp", options->minDisparity}, {"max_disp", options->maxDisparity}};
             if (*json) {
                 std::cout << result.dump() << "\n";
             } else {

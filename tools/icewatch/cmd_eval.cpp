@@ -65,7 +65,7 @@ void addEvalCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction&
             stereo::addNoise(right, noise, o->seed + 1);
             stereo::Matcher matcher(stereo::parseMethod(o->stereo.method), stereoParameters(o->stereo));
             const double start = nowMs();
-            const cv::Mat disparity = matcher.compute(left, right, o->stereo.maxDisparity);
+            const cv::Mat disparity = matcher.compute(left, right, o->stereo.range());
             const double matchMs = nowMs() - start;
             const stereo::DisparityScore score = stereo::scoreDisparity(disparity, gt, o->gtScale, mask, o->threshold);
             if (!o->badMap.empty() &&
@@ -75,7 +75,8 @@ void addEvalCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction&
             const nlohmann::json result{{"bad_percent", score.badPercent},   {"valid_percent", score.validPercent},
                                         {"match_ms", matchMs},               {"method", o->stereo.method},
                                         {"noise", noise.text},               {"seed", o->seed},
-                                        {"threshold", o->threshold},         {"evaluated_pixels", score.evaluated}};
+                                        {"threshold", o->threshold},         {"evaluated_pixels", score.evaluated},
+                                        {"min_disp", o->stereo.minDisparity}, {"max_disp", o->stereo.maxDisparity}};
             if (o->json) {
                 std::cout << result.dump() << "\n";
             } else {

@@ -23,7 +23,7 @@ void addMatchCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
             const cv::Mat left = readImage(options->left, cv::IMREAD_COLOR);
             const cv::Mat right = readImage(options->right, cv::IMREAD_COLOR);
             stereo::Matcher matcher(stereo::parseMethod(options->method), stereoParameters(*options));
-            const cv::Mat disparity = matcher.compute(left, right, options->maxDisparity);
+            const cv::Mat disparity = matcher.compute(left, right, options->range());
             stereo::writePfm(*out, disparity);
             if (!colour->empty()) {
                 bool written = false;

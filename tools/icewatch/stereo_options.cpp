@@ -13,7 +13,8 @@ namespace icewatch::cli {
 void addStereoOptions(CLI::App& command, StereoOptions& options, bool withMethod) {
     command.add_option("--left", options.left, "left image (rectified)")->required();
     command.add_option("--right", options.right, "right image (rectified)")->required();
-    command.add_option("--max-disp", options.maxDisparity, "disparities searched: 0 .. max-disp - 1")->required();
+    command.add_option("--min-disp", options.minDisparity, "smallest disparity searched (default 0)");
+    command.add_option("--max-disp", options.maxDisparity, "disparities searched: min-disp .. max-disp - 1")->required();
     if (withMethod) {
         command.add_option("--method", options.method, "paper, adcensus or sgbm")
             ->check(CLI::IsMember({"paper", "adcensus", "sgbm"}));

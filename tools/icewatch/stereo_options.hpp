@@ -13,12 +13,15 @@ namespace icewatch::cli {
 struct StereoOptions {
     std::string left;
     std::string right;
+    int minDisparity = 0;
     int maxDisparity = 0;
     std::string method = "paper";
     std::string config;  // optional icewatch.json whose "stereo" section sets the parameters
+
+    stereo::DisparityRange range() const { return {minDisparity, maxDisparity}; }
 };
 
-// Registers --left, --right, --max-disp, --config (and --method unless withMethod is false).
+// Registers --left, --right, --min-disp, --max-disp, --config (and --method unless withMethod is false).
 void addStereoOptions(CLI::App& command, StereoOptions& options, bool withMethod = true);
 
 // Reads an image; a missing or unreadable file throws Error(kExitNoInput) naming it.

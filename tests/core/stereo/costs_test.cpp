@@ -38,6 +38,36 @@ struct PaperInputs {
     PaperInputs& operator=(const PaperInputs&) = delete;
 };
 
+// A narrower band or a smaller region gives its memory back; the same size keeps the buffer.
+TEST(Costs, VolumesAreSizedExactlyByTheViewAndTheBandsWidth) {
+    CostVolume v;
+    v.create(100, 20, 128);
+    EXPECT_EQ(v.data.capacity(), std::size_t{100} * 20 * 128);
+    const std::uint16_t* before = v.data.data();
+    v.create(100, 20, 128);
+    EXPECT_EQ(v.data.data(), before);
+    v.create(80, 20, 32);
+    EXPECT_EQ(v.stride, 32);
+    EXPECT_EQ(v.data.size(), std::size_t{80} * 20 * 32);
+    EXPECT_EQ(v.data.capacity(), v.data.size());
+    CensusImage census;
+    census.create(100, 20, kImprovedCensusWords);
+    census.create(60, 20, kImprovedCensusWords);
+    EXPECT_EQ(census.data.capacity(), std::size_t{60} * 20 * kImprovedCensusWords);
+}
+
+// A column view of Census codes reads the stored columns from its first one on.
+TEST(Costs, CensusViewReadsItsColumnsOfTheWholeImage) {
+    CensusImage census;
+    census.create(10, 3, 1);
+    for (int y = 0; y < 3; ++y)
+        for (int x = 0; x < 10; ++x) *census.at(x, y) = static_cast<std::uint64_t>(100 * y + x);
+    census.viewColumns(4, 6);
+    EXPECT_EQ(census.width, 6);
+    EXPECT_EQ(*census.at(0, 0), 4u);
+    EXPECT_EQ(*census.at(5, 2), 209u);
+}
+
 TEST(Costs, PaperOptimisedEqualsReference) {
     const Pair p = randomPair(631, 479);
     const Parameters parameters;

@@ -173,10 +173,18 @@ TEST(Subpixel, EquiangularFit) {
     c[1] = 25;
     c[2] = 5;
     c[3] = 15;
-    const cv::Mat refined = subpixelRefine(row16({-1, 0, 0, 0, 0, 2}), v);
+    const cv::Mat refined = subpixelRefine(row16({-1, 0, 0, 0, 3, 2}), v, DisparityRange{0, 4});
     EXPECT_EQ(refined.at<float>(0, 0), kInvalidDisparity);
     EXPECT_FLOAT_EQ(refined.at<float>(0, 5), 2.25f);
     EXPECT_FLOAT_EQ(refined.at<float>(0, 1), 0.0f);  // d = 0 has no left neighbour: stays integer
+    EXPECT_EQ(refined.at<float>(0, 4), kInvalidDisparity);  // the band's last disparity: its edge
+
+    // The same volume as the band [7, 11): index d is disparity 7 + d, and index 0 is an edge too.
+    const cv::Mat banded = subpixelRefine(row16({-1, 0, 0, 1, 3, 2}), v, DisparityRange{7, 11});
+    EXPECT_EQ(banded.at<float>(0, 1), kInvalidDisparity);
+    EXPECT_FLOAT_EQ(banded.at<float>(0, 3), 8.0f);
+    EXPECT_EQ(banded.at<float>(0, 4), kInvalidDisparity);
+    EXPECT_FLOAT_EQ(banded.at<float>(0, 5), 9.25f);
 }
 
 TEST(Subpixel, IntensityRefinementStopsAtDepthEdges) {
