@@ -82,8 +82,7 @@ std::string client(const httplib::Request& req) {
 }  // namespace
 
 HttpApi::HttpApi(Daemon& daemon, const config::HttpConfig& config)
-    : daemon_(daemon), server_(std::make_unique<httplib::Server>()), config_(config) {
-    applyLimits(*server_, listenFd_);
+    : daemon_(daemon), server_(makeLimitedServer(listenFd_)), config_(config) {
     if (config.port == 0) {
         port_ = server_->bind_to_any_port(config.address);
     } else {
