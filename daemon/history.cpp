@@ -93,7 +93,9 @@ History::History(const std::filesystem::path& file, Mode mode, std::chrono::syst
     : file_(file) {
     if (mode == Mode::ReadOnly) {
         std::string why;
-        if (!open(SQLITE_OPEN_READONLY, why)) throw Error(kExitNoInput, file.string() + ": cannot open the history database: " + why);
+        if (!open(SQLITE_OPEN_READONLY, why)) {
+            throw Error(kExitNoInput, file.string() + ": cannot open the history database: " + why);
+        }
         return;
     }
     std::string why;

@@ -103,20 +103,21 @@ std::string markText(const YAML::Mark& mark) {
                                                 std::to_string(mark.column + 1) + ")";
 }
 
-int intOf(const YAML::Node& node, const std::string& where, const std::string& entry) {
+// what names the part of the entry in the message ("rows ", "data[3] "), empty for the entry itself.
+int intOf(const YAML::Node& node, const std::string& where, const std::string& entry, const std::string& what = "") {
     try {
         if (node.IsScalar()) return node.as<int>();
     } catch (const YAML::Exception&) {
     }
-    failEntry(where, entry, "must be an integer" + markText(node.Mark()));
+    failEntry(where, entry, what + "must be an integer" + markText(node.Mark()));
 }
 
-double numberOf(const YAML::Node& node, const std::string& where, const std::string& entry) {
+double numberOf(const YAML::Node& node, const std::string& where, const std::string& entry, const std::string& what) {
     try {
         if (node.IsScalar()) return node.as<double>();
     } catch (const YAML::Exception&) {
     }
-    failEntry(where, entry, "is not a number" + markText(node.Mark()));
+    failEntry(where, entry, what + "is not a number" + markText(node.Mark()));
 }
 
 // An !!opencv-matrix: rows, cols, dt (one channel) and rows*cols numbers in data.
@@ -128,7 +129,7 @@ cv::Mat readMat(const YAML::Node& top, const std::string& where, const std::stri
     if (!node.IsMap()) {
         failEntry(where, name, "must be an OpenCV matrix (!!opencv-matrix with rows, cols, dt and data)");
     }
-    const int rows = intOf(node["rows"], where, name + ".rows"), cols = intOf(node["cols"], where, name + ".cols");
+    const int rows = intOf(node["rows"], where, name, "rows "), cols = intOf(node["cols"], where, name, "cols ");
     if (rows < 1 || cols < 1 || rows > kMaxMatrixSide || cols > kMaxMatrixSide) {
         failEntry(where, name, "rows and cols must be between 1 and " + std::to_string(kMaxMatrixSide));
     }
@@ -148,8 +149,7 @@ cv::Mat readMat(const YAML::Node& top, const std::string& where, const std::stri
     }
     cv::Mat m(rows, cols, CV_64F);
     for (std::size_t i = 0; i < expected; ++i) {
-        m.at<double>(static_cast<int>(i / static_cast<std::size_t>(cols)), static_cast<int>(i % static_cast<std::size_t>(cols))) =
-            numberOf(data[i], where, name + ".data[" + std::to_string(i) + "]");
+        m.ptr<double>()[i] = numberOf(data[i], where, name, "data[" + std::to_string(i) + "] ");  // continuous
     }
     return m;
 }
