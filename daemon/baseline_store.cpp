@@ -18,6 +18,24 @@ namespace icewatch::daemon {
 
 namespace {
 constexpr double kFloatScale = 256.0;
+constexpr const char* kCurrent = "baseline.json";
+constexpr const char* kPrevious = "baseline.previous.json";
+
+// A record document, or null when the file is missing, not JSON, or of another shape.
+nlohmann::json readRecord(const std::filesystem::path& file) {
+    std::ifstream in(file);
+    if (!in) return nullptr;
+    auto doc = nlohmann::json::parse(in, nullptr, false);
+    for (const char* key : {"time", "left", "right", "calibration_sha256"}) {
+        if (!doc.is_object() || !doc.contains(key) || !doc[key].is_string()) return nullptr;
+    }
+    return doc;
+}
+
+std::string text(const nlohmann::json& record, const char* key) {
+    return record.is_object() && record.contains(key) && record[key].is_string() ? record[key].get<std::string>()
+                                                                               : std::string();
+}
 
 bool writePng(const std::filesystem::path& path, const cv::Mat& image) {
     std::vector<uchar> bytes;
@@ -55,38 +73,59 @@ bool saveBaseline(const std::filesystem::path& stateDir, const BaselineRecord& r
                              {"calibration_sha256", record.calibrationSha256},
                              {"left", leftName},
                              {"right", rightName},
+                             {"requested_by", record.requestedBy},
                              {"eye_width", record.pair.left.cols},
                              {"eye_height", record.pair.left.rows}};
-    std::string previousLeft, previousRight;
-    if (std::ifstream in(dir / "baseline.json"); in) {
-        const auto old = nlohmann::json::parse(in, nullptr, false);
-        if (old.is_object()) {
-            previousLeft = old.value("left", "");
-            previousRight = old.value("right", "");
-        }
-    }
-    if (!writeFileAtomically(dir / "baseline.json", doc.dump(2) + "\n")) {
-        error = "cannot write " + (dir / "baseline.json").string();
+    const nlohmann::json current = readRecord(dir / kCurrent);
+    const nlohmann::json previous = readRecord(dir / kPrevious);
+    // The record being replaced becomes the previous one before the new one is in place: a crash
+    // in between leaves the old reference current and also kept as previous.
+    if (!current.is_null() && !writeFileAtomically(dir / kPrevious, current.dump(2) + "\n")) {
+        error = "cannot write " + (dir / kPrevious).string();
         return false;
     }
-    for (const auto& old : {previousLeft, previousRight}) {
-        if (!old.empty() && old != leftName && old != rightName) std::filesystem::remove(dir / old, ec);
+    if (!writeFileAtomically(dir / kCurrent, doc.dump(2) + "\n")) {
+        error = "cannot write " + (dir / kCurrent).string();
+        return false;
+    }
+    // Images of the record that fell off the end (neither current nor previous any more).
+    for (const auto& old : {text(previous, "left"), text(previous, "right")}) {
+        if (!old.empty() && old != leftName && old != rightName && old != text(current, "left") &&
+            old != text(current, "right") && !std::filesystem::path(old).has_parent_path()) {
+            std::filesystem::remove(dir / old, ec);
+        }
+    }
+    return true;
+}
+
+bool restoreBaseline(const std::filesystem::path& stateDir, std::string& error) {
+    const auto dir = stateDir / "baseline";
+    const nlohmann::json current = readRecord(dir / kCurrent);
+    const nlohmann::json previous = readRecord(dir / kPrevious);
+    if (previous.is_null()) {
+        error = "no previous baseline in " + dir.string() + " to go back to";
+        return false;
+    }
+    if (!writeFileAtomically(dir / kCurrent, previous.dump(2) + "\n")) {
+        error = "cannot write " + (dir / kCurrent).string();
+        return false;
+    }
+    if (!current.is_null() && !writeFileAtomically(dir / kPrevious, current.dump(2) + "\n")) {
+        error = "cannot write " + (dir / kPrevious).string();
+        return false;
     }
     return true;
 }
 
 std::optional<BaselineRecord> loadBaseline(const std::filesystem::path& stateDir, std::string& error) {
     const auto dir = stateDir / "baseline";
-    std::ifstream in(dir / "baseline.json");
-    if (!in) {
+    if (!std::filesystem::exists(dir / kCurrent)) {
         error = "no baseline in " + dir.string();
         return std::nullopt;
     }
-    const auto doc = nlohmann::json::parse(in, nullptr, false);
-    if (!doc.is_object() || !doc.contains("time") || !doc["time"].is_string() || !doc.contains("left") ||
-        !doc["left"].is_string() || !doc.contains("right") || !doc["right"].is_string() ||
-        !doc.contains("calibration_sha256") || !doc["calibration_sha256"].is_string()) {
-        error = (dir / "baseline.json").string() + ": not a baseline record";
+    const nlohmann::json doc = readRecord(dir / kCurrent);
+    if (doc.is_null()) {
+        error = (dir / kCurrent).string() + ": not a baseline record (time, left, right, calibration_sha256)";
         return std::nullopt;
     }
     const auto time = parseIsoUtc(doc["time"].get<std::string>());
@@ -97,6 +136,7 @@ std::optional<BaselineRecord> loadBaseline(const std::filesystem::path& stateDir
     BaselineRecord record;
     record.time = *time;
     record.calibrationSha256 = doc["calibration_sha256"].get<std::string>();
+    record.requestedBy = text(doc, "requested_by");
     // The names must stay inside the directory.
     const std::filesystem::path leftName = doc["left"].get<std::string>(), rightName = doc["right"].get<std::string>();
     if (leftName.has_parent_path() || rightName.has_parent_path()) {

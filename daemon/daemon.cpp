@@ -37,6 +37,20 @@ std::filesystem::path prepared(const std::filesystem::path& dir) {
 
 const std::vector<std::string> kPictureNames{"left", "disparity", "thickness"};
 
+// A result document as this daemon writes it: the fields every view reads must be there with
+// their types. Anything else (a hand-edited or truncated-and-repaired file) counts as absent.
+bool isResultDocument(const nlohmann::json& doc) {
+    if (!doc.is_object()) return false;
+    for (const char* key : {"time", "status", "alarm", "camera"}) {
+        if (!doc.contains(key) || !doc[key].is_string()) return false;
+    }
+    return true;
+}
+
+std::string textOf(const nlohmann::json& doc, const char* key, const std::string& otherwise) {
+    return doc.is_object() && doc.contains(key) && doc[key].is_string() ? doc[key].get<std::string>() : otherwise;
+}
+
 // The settings only a restart applies: they hold devices, sockets and files open.
 std::vector<std::string> restartOnlyChanges(const config::Config& a, const config::Config& b) {
     std::vector<std::string> changed;
@@ -69,17 +83,23 @@ Daemon::Daemon(config::Config config, DaemonOptions options, Clock& clock, Daemo
       notifier_(notifier),
       stateDir_(prepared(config_.daemon.stateDir)),
       lock_(stateDir_),
-      history_(stateDir_ / "history.sqlite"),
-      alarm_(config_.alarm) {
+      history_(stateDir_ / "history.sqlite", History::Mode::ReadWrite, clock_.now()),
+      alarm_(config_.alarm),
+      token_(resolveHttpToken(config_.http, /*create=*/true)) {
     if (!parts_.source || !parts_.chain) {
         throw Error(kExitSoftware, "daemon: a frame source and a measurement chain are required");
     }
     // The last result survives a restart for GET /v1/latest (it is stale by then, and says so).
     if (std::ifstream in(stateDir_ / "latest.json"); in) {
         auto doc = nlohmann::json::parse(in, nullptr, false);
-        if (doc.is_object()) {
+        if (isResultDocument(doc)) {
             latest_ = std::move(doc);
+        } else {
+            logger()->warn("{}: not a result document; ignored", (stateDir_ / "latest.json").string());
         }
+    }
+    if (token_.value.empty() && config_.http.enabled) {
+        logger()->error("no HTTP token ({}): every POST will be refused", token_.problem);
     }
     loadStoredBaseline();
     if (parts_.outputs) {
@@ -130,9 +150,17 @@ void Daemon::requestMeasure() {
     wake_.notify_all();
 }
 
-void Daemon::requestBaseline() {
+void Daemon::requestBaseline(std::string who) {
     std::lock_guard lock(mutex_);
     requests_.baseline = true;
+    requests_.baselineBy = std::move(who);
+    wake_.notify_all();
+}
+
+void Daemon::requestBaselineRestore(std::string who) {
+    std::lock_guard lock(mutex_);
+    requests_.baselineRestore = true;
+    requests_.restoreBy = std::move(who);
     wake_.notify_all();
 }
 
@@ -160,7 +188,8 @@ Daemon::Requests Daemon::takeRequests() {
 
 void Daemon::waitUntil(TimePoint deadline) {
     std::unique_lock lock(mutex_);
-    const bool pending = requests_.measure || requests_.baseline || requests_.alarmReset || requests_.reload;
+    const bool pending = requests_.measure || requests_.baseline || requests_.baselineRestore ||
+                         requests_.alarmReset || requests_.reload;
     if (pending || stopping()) {
         return;
     }
@@ -199,7 +228,8 @@ void Daemon::loop(std::optional<TimePoint> end) {
         const Requests requests = takeRequests();
         if (requests.reload) reload();
         if (requests.alarmReset) resetAlarm();
-        if (requests.baseline) captureBaseline();
+        if (requests.baselineRestore) restorePreviousBaseline(requests.restoreBy);
+        if (requests.baseline) captureBaseline(requests.baselineBy);
         const TimePoint now = clock_.now();
         if (end && now >= *end) {
             break;
@@ -296,18 +326,22 @@ void Daemon::checkCamera() {
     }
 }
 
-void Daemon::captureBaseline() {
+void Daemon::captureBaseline(const std::string& who) {
+    logger()->info("baseline capture requested by {}", who);
     BaselineCapture capture = captureBaselinePair(*parts_.source, *parts_.chain, config_.daemon,
                                                   [this] { return stopping(); }, [this] { progress(); });
     const TimePoint time = clock_.now();
     nlohmann::json outcome = {{"time", formatIsoUtc(time)}, {"ok", capture.ok}};
     if (capture.ok) {
-        BaselineRecord record{time, parts_.chain->calibrationSha256(), std::move(capture.pair)};
+        BaselineRecord record{time, parts_.chain->calibrationSha256(), std::move(capture.pair), who};
         std::string error;
         if (saveBaseline(stateDir_, record, error)) {
-            logger()->info("baseline captured and stored");
+            logger()->info("baseline captured and stored (requested by {}); the previous one is kept, "
+                           "`icewatch baseline restore` or POST /v1/baseline/restore goes back to it", who);
             std::lock_guard lock(mutex_);
-            baselineInfo_ = {{"time", formatIsoUtc(time)}, {"calibration_sha256", record.calibrationSha256}};
+            baselineInfo_ = {{"time", formatIsoUtc(time)},
+                             {"calibration_sha256", record.calibrationSha256},
+                             {"requested_by", who}};
             requests_.measure = true;  // the next result should be against the new reference
         } else {
             // The chain now holds a baseline that a restart would not find: say so loudly.
@@ -319,8 +353,29 @@ void Daemon::captureBaseline() {
         logger()->error("baseline capture failed: {}", capture.reason);
         outcome["reason"] = capture.reason;
     }
+    outcome["requested_by"] = who;
     std::lock_guard lock(mutex_);
     lastBaselineCapture_ = std::move(outcome);
+}
+
+void Daemon::restorePreviousBaseline(const std::string& who) {
+    std::string error;
+    if (!restoreBaseline(stateDir_, error)) {
+        logger()->error("baseline restore requested by {} failed: {}", who, error);
+        std::lock_guard lock(mutex_);
+        lastBaselineCapture_ = {{"time", formatIsoUtc(clock_.now())}, {"ok", false}, {"restore", true},
+                                {"reason", error}, {"requested_by", who}};
+        return;
+    }
+    logger()->info("previous baseline restored (requested by {})", who);
+    {
+        std::lock_guard lock(mutex_);
+        baselineInfo_ = nullptr;
+        lastBaselineCapture_ = {{"time", formatIsoUtc(clock_.now())}, {"ok", true}, {"restore", true},
+                                {"requested_by", who}};
+        requests_.measure = true;
+    }
+    loadStoredBaseline();
 }
 
 void Daemon::resetAlarm() {
@@ -346,17 +401,26 @@ void Daemon::reload() {
     }
     config::Config next;
     std::string sha;
+    std::string failure;
+    // Whatever the file holds, the service goes on with what it has: no exception leaves here.
     try {
         next = config::loadConfig(options_.configFile);
         sha = sha256OfFile(options_.configFile).value_or("");
-    } catch (const Error& e) {
-        logger()->error("configuration reload failed, keeping the previous configuration: {}", e.what());
+    } catch (const std::exception& e) {
+        failure = e.what();
+    } catch (...) {
+        failure = "unknown error";
+    }
+    if (!failure.empty()) {
+        logger()->error("configuration reload failed, keeping the previous configuration: {}", failure);
         std::lock_guard lock(mutex_);
         ++reloads_;
         ++failedReloads_;
-        lastReloadError_ = e.what();
+        lastReloadError_ = failure;
         return;
     }
+    next.http.tokenFile = config_.http.tokenFile;  // a restart-only setting, like the address
+    HttpToken token = resolveHttpToken(next.http, /*create=*/true);
     for (const auto& section : restartOnlyChanges(config_, next)) {
         logger()->warn("configuration reload: {} changed; that takes effect at the next restart", section);
     }
@@ -372,6 +436,7 @@ void Daemon::reload() {
     next.daemon.stateDir = config_.daemon.stateDir;
     next.calibration = config_.calibration;
     config_ = std::move(next);
+    token_ = std::move(token);
     options_.configSha256 = sha;
     ++reloads_;
     lastReloadError_.clear();
@@ -382,13 +447,22 @@ CycleResult Daemon::publish(CycleResult result, const ChainPictures& pictures, b
     result.alarm = alarm_.level();
     result.version = options_.version;
     result.configSha256 = options_.configSha256;
-    const nlohmann::json doc = toJson(result);
-    if (!writeFileAtomically(stateDir_ / "latest.json", doc.dump(2) + "\n")) {
-        logger()->error("cannot write {}: {}", (stateDir_ / "latest.json").string(), std::strerror(errno));
+    // The history first, so that latest.json can say whether it was written.
+    std::string historyFault;
+    if (toHistory && !history_.append(result)) {
+        historyFault = "cannot write the history " + history_.file().string();
     }
     if (toHistory) {
-        history_.append(result);
         history_.pruneOlderThan(result.time - std::chrono::hours(24) * config_.history.retentionDays);
+    }
+    nlohmann::json doc = toJson(result);
+    doc["storage_fault"] = historyFault.empty() ? nlohmann::json(nullptr) : nlohmann::json(historyFault);
+    std::string latestFault;
+    if (!writeFileAtomically(stateDir_ / "latest.json", doc.dump(2) + "\n")) {
+        latestFault = "cannot write " + (stateDir_ / "latest.json").string() + ": " + std::strerror(errno);
+        logger()->error("{}", latestFault);
+        // Only the served copy can say it: the file on disk is the old one.
+        doc["storage_fault"] = latestFault + (historyFault.empty() ? "" : "; " + historyFault);
     }
     const cv::Mat* images[] = {&pictures.left, &pictures.disparity, &pictures.thickness};
     for (std::size_t i = 0; i < kPictureNames.size(); ++i) {
@@ -405,6 +479,8 @@ CycleResult Daemon::publish(CycleResult result, const ChainPictures& pictures, b
     }
     std::lock_guard lock(mutex_);
     latest_ = doc;
+    storageFault_ = doc["storage_fault"].is_string() ? doc["storage_fault"].get<std::string>() : std::string();
+    latestWriteFailed_ = !latestFault.empty();
     return result;
 }
 
@@ -419,30 +495,47 @@ std::optional<nlohmann::json> Daemon::latest() const {
 alarm::AlarmLevel Daemon::alarmLevel() const {
     std::lock_guard lock(mutex_);
     if (!latest_) return alarm::AlarmLevel::Fault;
-    const std::string level = (*latest_)["alarm"].get<std::string>();
+    const std::string level = textOf(*latest_, "alarm", "fault");
     for (auto l : {alarm::AlarmLevel::None, alarm::AlarmLevel::Warning, alarm::AlarmLevel::Alarm}) {
         if (level == alarm::toString(l)) return l;
     }
     return alarm::AlarmLevel::Fault;
 }
 
+std::optional<std::string> Daemon::iceShown() const {
+    std::lock_guard lock(mutex_);
+    const std::string level = latest_ ? textOf(*latest_, "alarm", "fault") : "fault";
+    if (level == alarm::toString(alarm::AlarmLevel::Warning) || level == alarm::toString(alarm::AlarmLevel::Alarm)) {
+        return "alarm level " + level;
+    }
+    return std::nullopt;
+}
+
 nlohmann::json Daemon::health() const {
     std::lock_guard lock(mutex_);
-    const std::string alarmText = latest_ ? (*latest_)["alarm"].get<std::string>() : "fault";
+    const std::string alarmText = latest_ ? textOf(*latest_, "alarm", "fault") : "fault";
     const bool stale = latest_ ? withStaleness(*latest_, clock_.now(), config_.daemon.intervalS)["stale"].get<bool>() : true;
+    const std::string historyRecovery = history_.recovery();
     std::string status = "ok";
-    if (alarmText == "fault" || camera_ == CameraState::Offline || stale) {
+    if (alarmText == "fault" || camera_ == CameraState::Offline || stale || latestWriteFailed_) {
         status = "fault";
-    } else if (camera_ == CameraState::Degraded || (latest_ && (*latest_)["status"] != "ok")) {
+    } else if (camera_ == CameraState::Degraded || (latest_ && textOf(*latest_, "status", "") != "ok") ||
+               !storageFault_.empty() || !historyRecovery.empty()) {
         status = "degraded";
     }
+    const auto orNull = [](const std::string& text) {
+        return text.empty() ? nlohmann::json(nullptr) : nlohmann::json(text);
+    };
     return {
         {"status", status},
         {"alarm", alarmText},
         {"camera", toString(camera_)},
         {"camera_detail", cameraDetail_.empty() ? nlohmann::json(nullptr) : nlohmann::json(cameraDetail_)},
-        {"last_result", latest_ ? (*latest_)["time"] : nlohmann::json(nullptr)},
-        {"last_status", latest_ ? (*latest_)["status"] : nlohmann::json(nullptr)},
+        {"last_result", latest_ ? orNull(textOf(*latest_, "time", "")) : nlohmann::json(nullptr)},
+        {"last_status", latest_ ? orNull(textOf(*latest_, "status", "")) : nlohmann::json(nullptr)},
+        {"storage_fault", orNull(storageFault_)},
+        {"history_recovery", orNull(historyRecovery)},
+        {"http_token", token_.value.empty() ? nlohmann::json(token_.problem) : nlohmann::json("set")},
         {"stale", stale},
         {"next_cycle", formatIsoUtc(nextCycle_)},
         {"interval_s", config_.daemon.intervalS},
@@ -476,9 +569,9 @@ std::optional<std::string> Daemon::picture(const std::string& name) const {
     return bytes.str();
 }
 
-std::string Daemon::token() const {
+HttpToken Daemon::token() const {
     std::lock_guard lock(mutex_);
-    return config_.http.token;
+    return token_;
 }
 
 }  // namespace icewatch::daemon

@@ -17,6 +17,7 @@
 #include "daemon/cycle_result.hpp"
 #include "daemon/frame_source.hpp"
 #include "daemon/history.hpp"
+#include "daemon/http_token.hpp"
 #include "daemon/measurement_chain.hpp"
 #include "daemon/notifier.hpp"
 #include "daemon/state_dir.hpp"
@@ -61,7 +62,9 @@ public:
 
     void requestStop();
     void requestMeasure();
-    void requestBaseline();
+    // who: logged and stored with the baseline ("http 127.0.0.1 (curl/7.88.1)").
+    void requestBaseline(std::string who = "service");
+    void requestBaselineRestore(std::string who = "service");
     void requestAlarmReset();
     void requestReload();
     void setReadyStatus(std::string status);
@@ -71,21 +74,25 @@ public:
     nlohmann::json health() const;
     std::vector<nlohmann::json> history(TimePoint since, int limit) const;
     std::optional<std::string> picture(const std::string& name) const;  // PNG bytes
-    std::string token() const;
+    HttpToken token() const;
+    // The level when the current result shows ice (warning or alarm), else nullopt.
+    std::optional<std::string> iceShown() const;
     TimePoint now() const { return clock_.now(); }
     alarm::AlarmLevel alarmLevel() const;
     const std::filesystem::path& stateDir() const { return stateDir_; }
 
 private:
     struct Requests {
-        bool measure = false, baseline = false, alarmReset = false, reload = false;
+        bool measure = false, baseline = false, baselineRestore = false, alarmReset = false, reload = false;
+        std::string baselineBy, restoreBy;
     };
     void loop(std::optional<TimePoint> end);
     Requests takeRequests();
     void waitUntil(TimePoint deadline);
     std::optional<CycleResult> runCycle();
     void checkCamera();
-    void captureBaseline();
+    void captureBaseline(const std::string& who);
+    void restorePreviousBaseline(const std::string& who);
     void resetAlarm();
     void reload();
     void loadStoredBaseline();
@@ -120,6 +127,9 @@ private:
     int reloads_ = 0;
     int failedReloads_ = 0;
     std::string lastReloadError_;
+    HttpToken token_;
+    std::string storageFault_;   // empty: the last writes of latest.json and the history succeeded
+    bool latestWriteFailed_ = false;
     std::chrono::steady_clock::time_point lastWatchdog_{};
 };
 

@@ -89,27 +89,87 @@ const std::vector<std::string> kCsvColumns{"time",          "status",           
 
 }  // namespace
 
-History::History(const std::filesystem::path& file, Mode mode) : file_(file) {
-    const int flags = mode == Mode::ReadOnly ? SQLITE_OPEN_READONLY : SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE;
-    if (sqlite3_open_v2(file.c_str(), &db_, flags | SQLITE_OPEN_FULLMUTEX, nullptr) != SQLITE_OK) {
-        const std::string why = db_ ? sqlite3_errmsg(db_) : "out of memory";
+History::History(const std::filesystem::path& file, Mode mode, std::chrono::system_clock::time_point now)
+    : file_(file) {
+    if (mode == Mode::ReadOnly) {
+        std::string why;
+        if (!open(SQLITE_OPEN_READONLY, why)) {
+            throw Error(kExitNoInput, file.string() + ": cannot open the history database: " + why);
+        }
+        return;
+    }
+    std::string why;
+    if (open(SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, why) && setUp(why)) {
+        return;
+    }
+    // Secondary data must not stop the measurement: keep the damaged file for a person, start anew.
+    moveAside(now, why);
+    if (!open(SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, why) || !setUp(why)) {
+        throw Error(kExitCantCreate, file.string() + ": cannot create the history database: " + why);
+    }
+}
+
+bool History::open(int flags, std::string& why) {
+    if (sqlite3_open_v2(file_.c_str(), &db_, flags | SQLITE_OPEN_FULLMUTEX, nullptr) != SQLITE_OK) {
+        why = db_ ? sqlite3_errmsg(db_) : "out of memory";
         sqlite3_close(db_);
         db_ = nullptr;
-        throw Error(mode == Mode::ReadOnly ? kExitNoInput : kExitCantCreate,
-                    file.string() + ": cannot open the history database: " + why);
+        return false;
     }
     sqlite3_busy_timeout(db_, 5000);
-    if (mode == Mode::ReadWrite) {
-        char* message = nullptr;
-        const std::string setup = std::string("PRAGMA journal_mode=WAL; PRAGMA synchronous=NORMAL;") + kSchema;
-        if (sqlite3_exec(db_, setup.c_str(), nullptr, nullptr, &message) != SQLITE_OK) {
-            const std::string why = message ? message : "unknown error";
-            sqlite3_free(message);
-            sqlite3_close(db_);
-            db_ = nullptr;
-            throw Error(kExitCantCreate, file.string() + ": cannot set up the history database: " + why);
-        }
+    return true;
+}
+
+bool History::setUp(std::string& why) {
+    char* message = nullptr;
+    // quick_check reads every page: a file that is not a database or has broken pages fails here,
+    // not at the first insert hours later.
+    const std::string setup = std::string("PRAGMA journal_mode=WAL; PRAGMA synchronous=NORMAL;") + kSchema;
+    bool ok = sqlite3_exec(db_, setup.c_str(), nullptr, nullptr, &message) == SQLITE_OK;
+    if (ok) {
+        Statement check;
+        ok = sqlite3_prepare_v2(db_, "PRAGMA quick_check", -1, &check.stmt, nullptr) == SQLITE_OK &&
+             sqlite3_step(check.stmt) == SQLITE_ROW &&
+             std::string(reinterpret_cast<const char*>(sqlite3_column_text(check.stmt, 0))) == "ok";
+        if (!ok) why = std::string("integrity check: ") + sqlite3_errmsg(db_);
+    } else {
+        why = message ? message : "unknown error";
     }
+    sqlite3_free(message);
+    if (!ok) {
+        sqlite3_close(db_);
+        db_ = nullptr;
+    }
+    return ok;
+}
+
+void History::moveAside(std::chrono::system_clock::time_point now, const std::string& why) {
+    std::string stamp = formatIsoUtc(now);
+    for (char& c : stamp) if (c == ':') c = '-';
+    const std::filesystem::path aside = file_.string() + ".damaged-" + stamp;
+    std::error_code ec;
+    std::filesystem::rename(file_, aside, ec);
+    for (const char* suffix : {"-wal", "-shm"}) {
+        std::filesystem::rename(file_.string() + suffix, aside.string() + suffix, ec);
+    }
+    std::filesystem::remove(file_, ec);
+    recovery_ = file_.string() + " was damaged (" + why + "): moved to " + aside.filename().string() +
+                " at " + formatIsoUtc(now) + ", a new one started";
+    log::get("history")->error("{}", recovery_);
+}
+
+bool History::recoverIfDamaged(int rc, std::chrono::system_clock::time_point now) {
+    if (rc != SQLITE_CORRUPT && rc != SQLITE_NOTADB) return false;
+    const std::string why = sqlite3_errmsg(db_);
+    sqlite3_close(db_);
+    db_ = nullptr;
+    moveAside(now, why);
+    std::string problem;
+    if (!open(SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, problem) || !setUp(problem)) {
+        log::get("history")->error("{}: cannot start a new history: {}", file_.string(), problem);
+        return false;
+    }
+    return true;
 }
 
 History::~History() {
@@ -118,13 +178,24 @@ History::~History() {
 
 bool History::append(const CycleResult& r) {
     std::lock_guard lock(mutex_);
+    for (int attempt = 0; attempt < 2; ++attempt) {
+        const int rc = insert(r);
+        if (rc == SQLITE_DONE) return true;
+        // A file damaged under the running daemon: move it aside once and write the row anew.
+        if (attempt > 0 || !recoverIfDamaged(rc, r.time)) break;
+    }
+    return false;
+}
+
+int History::insert(const CycleResult& r) {
+    if (db_ == nullptr) return SQLITE_CANTOPEN;
     const nlohmann::json doc = toJson(r);
     Statement s;
     const std::string sql = std::string("INSERT INTO results (time_unix, ") + kColumns +
                             ") VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16)";
-    if (sqlite3_prepare_v2(db_, sql.c_str(), -1, &s.stmt, nullptr) != SQLITE_OK) {
+    if (const int rc = sqlite3_prepare_v2(db_, sql.c_str(), -1, &s.stmt, nullptr); rc != SQLITE_OK) {
         log::get("history")->error("{}: cannot prepare insert: {}", file_.string(), sqlite3_errmsg(db_));
-        return false;
+        return rc;
     }
     const std::string time = doc["time"].get<std::string>();
     const std::string quality = doc["quality"].dump();
@@ -149,15 +220,16 @@ bool History::append(const CycleResult& r) {
     sqlite3_bind_text(s.stmt, 14, timings.c_str(), -1, SQLITE_TRANSIENT);
     sqlite3_bind_text(s.stmt, 15, r.version.c_str(), -1, SQLITE_TRANSIENT);
     sqlite3_bind_text(s.stmt, 16, r.configSha256.c_str(), -1, SQLITE_TRANSIENT);
-    if (sqlite3_step(s.stmt) != SQLITE_DONE) {
+    const int rc = sqlite3_step(s.stmt);
+    if (rc != SQLITE_DONE) {
         log::get("history")->error("{}: cannot insert a row: {}", file_.string(), sqlite3_errmsg(db_));
-        return false;
     }
-    return true;
+    return rc;
 }
 
 int History::pruneOlderThan(std::chrono::system_clock::time_point cutoff) {
     std::lock_guard lock(mutex_);
+    if (db_ == nullptr) return -1;
     Statement s;
     if (sqlite3_prepare_v2(db_, "DELETE FROM results WHERE time_unix < ?1", -1, &s.stmt, nullptr) != SQLITE_OK) {
         return -1;
@@ -173,6 +245,9 @@ int History::pruneOlderThan(std::chrono::system_clock::time_point cutoff) {
 std::vector<nlohmann::json> History::since(std::chrono::system_clock::time_point since, int limit) const {
     std::lock_guard lock(mutex_);
     std::vector<nlohmann::json> rows;
+    if (db_ == nullptr) {
+        throw Error(kExitIoErr, file_.string() + ": the history database is not open");
+    }
     Statement s;
     const std::string sql =
         std::string("SELECT ") + kColumns + " FROM results WHERE time_unix >= ?1 ORDER BY time_unix, id LIMIT ?2";
@@ -192,7 +267,10 @@ std::vector<nlohmann::json> History::since(std::chrono::system_clock::time_point
             row[kNames[i]] = columnJson(s.stmt, i);
         }
         for (const char* nested : {"quality", "timings_ms"}) {
-            row[nested] = nlohmann::json::parse(row[nested].get<std::string>(), nullptr, false);
+            // A row edited by hand may hold anything: such a cell reads as null, never as an exception.
+            row[nested] = row[nested].is_string() ? nlohmann::json::parse(row[nested].get<std::string>(), nullptr, false)
+                                                  : nlohmann::json(nullptr);
+            if (row[nested].is_discarded()) row[nested] = nullptr;
         }
         rows.push_back(std::move(row));
     }
@@ -217,7 +295,11 @@ std::string historyCsvLine(const nlohmann::json& row) {
             // One cell: the flags as "flag: reason; ...".
             std::string text;
             for (const auto& f : value["flags"]) {
-                text += (text.empty() ? "" : "; ") + f.value("flag", "") + ": " + f.value("reason", "");
+                if (!f.is_object()) continue;
+                const auto field = [&f](const char* key) {
+                    return f.contains(key) && f[key].is_string() ? f[key].get<std::string>() : std::string();
+                };
+                text += (text.empty() ? "" : "; ") + field("flag") + ": " + field("reason");
             }
             value = text;
         }

@@ -20,14 +20,18 @@ struct CycleResult;
 class History {
 public:
     enum class Mode { ReadWrite, ReadOnly };
-    // Opens (creating it in ReadWrite mode) the database. Throws Error naming the file:
-    // kExitCantCreate when it cannot be created, kExitNoInput when a ReadOnly file is missing.
-    explicit History(const std::filesystem::path& file, Mode mode = Mode::ReadWrite);
+    // Opens (creating it in ReadWrite mode) the database. In ReadWrite mode a damaged file (not a
+    // database, failing its integrity check) is renamed history.sqlite.damaged-<now> and a new one
+    // started (recovery() says so). Throws Error naming the file: kExitCantCreate when it cannot be
+    // created, kExitNoInput when a ReadOnly file is missing.
+    explicit History(const std::filesystem::path& file, Mode mode = Mode::ReadWrite,
+                     std::chrono::system_clock::time_point now = std::chrono::system_clock::now());
     ~History();
     History(const History&) = delete;
     History& operator=(const History&) = delete;
 
     // false on an I/O error (logged); the caller carries on: latest.json is the primary output.
+    // A file found damaged while running is moved aside like at opening and the row written anew.
     bool append(const CycleResult& result);
     // Deletes rows older than cutoff; returns how many, -1 on error.
     int pruneOlderThan(std::chrono::system_clock::time_point cutoff);
@@ -35,9 +39,21 @@ public:
     std::vector<nlohmann::json> since(std::chrono::system_clock::time_point since, int limit) const;
 
     const std::filesystem::path& file() const { return file_; }
+    // Empty, or what was damaged, when and where it went.
+    std::string recovery() const {
+        std::lock_guard lock(mutex_);
+        return recovery_;
+    }
 
 private:
+    bool open(int flags, std::string& why);
+    bool setUp(std::string& why);
+    void moveAside(std::chrono::system_clock::time_point now, const std::string& why);
+    bool recoverIfDamaged(int rc, std::chrono::system_clock::time_point now);
+    int insert(const CycleResult& result);  // an SQLite result code, SQLITE_DONE when written
+
     std::filesystem::path file_;
+    std::string recovery_;
     sqlite3* db_ = nullptr;
     mutable std::mutex mutex_;
 };

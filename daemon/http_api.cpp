@@ -5,11 +5,15 @@
 
 #include <httplib.h>
 
-#include <chrono>
+#include <algorithm>
+#include <cctype>
 #include <charconv>
+#include <chrono>
 
 #include "core/common/error.hpp"
 #include "daemon/daemon.hpp"
+#include "daemon/http_limits.hpp"
+#include "daemon/http_token.hpp"
 #include "daemon/iso_time.hpp"
 #include "drivers/log/log.hpp"
 
@@ -29,23 +33,56 @@ void sendError(httplib::Response& res, int status, const std::string& message) {
     sendJson(res, status, {{"error", message}, {"status", status}});
 }
 
-// Constant-time comparison: the token must not leak through response timing.
-bool sameToken(const std::string& a, const std::string& b) {
-    unsigned char diff = a.size() == b.size() ? 0 : 1;
-    for (std::size_t i = 0; i < a.size(); ++i) {
-        diff |= static_cast<unsigned char>(a[i] ^ (i < b.size() ? b[i] : 0));
+std::string lower(std::string text) {
+    for (char& c : text) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return text;
+}
+
+// The origins a page of this server itself would send; a browser adds Origin to every
+// cross-origin request, so any other value is a page elsewhere trying to reach the box.
+std::vector<std::string> ownOrigins(const config::HttpConfig& config, int port) {
+    const std::string suffix = ":" + std::to_string(port);
+    std::vector<std::string> origins{"http://127.0.0.1" + suffix, "http://localhost" + suffix, "http://[::1]" + suffix};
+    if (!config::isLoopbackAddress(config.address) && config.address != "0.0.0.0" && config.address != "::") {
+        origins.push_back("http://" + lower(config.address) + suffix);
     }
-    return diff == 0;
+    return origins;
+}
+
+// Host names that mean this machine's loopback: anything else in Host on a loopback listener is
+// a DNS-rebinding page that made evil.example resolve to 127.0.0.1.
+bool loopbackHost(const std::string& host) {
+    const std::string h = lower(host.substr(0, host.rfind(':') == std::string::npos || host.back() == ']'
+                                                   ? host.size()
+                                                   : host.rfind(':')));
+    return h == "localhost" || h == "[::1]" || h.rfind("127.", 0) == 0;
+}
+
+// HTML forms post these without any preflight; nothing of ours takes them.
+bool formContentType(const std::string& contentType) {
+    const std::string type = lower(contentType.substr(0, contentType.find(';')));
+    for (const char* form : {"application/x-www-form-urlencoded", "multipart/form-data", "text/plain"}) {
+        if (type.find(form) != std::string::npos) return true;
+    }
+    return false;
+}
+
+std::string bearerValue(const std::string& header) {
+    const std::size_t space = header.find(' ');
+    if (space == std::string::npos || lower(header.substr(0, space)) != "bearer") return {};
+    const std::size_t start = header.find_first_not_of(' ', space);
+    return start == std::string::npos ? std::string() : header.substr(start);
+}
+
+std::string client(const httplib::Request& req) {
+    const std::string agent = req.get_header_value("User-Agent");
+    return "http " + req.remote_addr + (agent.empty() ? "" : " (" + agent.substr(0, 80) + ")");
 }
 
 }  // namespace
 
 HttpApi::HttpApi(Daemon& daemon, const config::HttpConfig& config)
-    : daemon_(daemon), server_(std::make_unique<httplib::Server>()) {
-    route();
-    server_->set_payload_max_length(64 * 1024);
-    server_->set_read_timeout(5, 0);
-    server_->set_write_timeout(5, 0);
+    : daemon_(daemon), server_(makeLimitedServer(listenFd_)), config_(config) {
     if (config.port == 0) {
         port_ = server_->bind_to_any_port(config.address);
     } else {
@@ -55,6 +92,9 @@ HttpApi::HttpApi(Daemon& daemon, const config::HttpConfig& config)
         throw Error(kExitUnavailable, "http: cannot listen on " + config.address + ":" + std::to_string(config.port) +
                                           " (address in use, or not an address of this machine)");
     }
+    raiseBacklog(listenFd_);
+    origins_ = ownOrigins(config, port_);
+    route();
     thread_ = std::thread([this] { server_->listen_after_bind(); });
     log::get("http")->info("listening on {}:{}", config.address, port_);
 }
@@ -78,7 +118,9 @@ void HttpApi::route() {
     });
 
     s.Get("/v1/health", [this](const httplib::Request&, httplib::Response& res) {
-        sendJson(res, 200, daemon_.health());
+        // 503 on a fault, so that a probe that only looks at the status code sees it too.
+        const nlohmann::json health = daemon_.health();
+        sendJson(res, health["status"] == "fault" ? 503 : 200, health);
     });
 
     s.Get("/v1/history", [this](const httplib::Request& req, httplib::Response& res) {
@@ -116,19 +158,30 @@ void HttpApi::route() {
         }
     });
 
+    // Every request: a browser page of another origin, or a rebound host name, gets nothing.
+    s.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
+        if (req.headers.size() > kHttpMaxHeaders) {
+            sendError(res, 431, "more than " + std::to_string(kHttpMaxHeaders) + " header fields");
+            return httplib::Server::HandlerResponse::Handled;
+        }
+        if (const std::string refusal = refusedOrigin(req); !refusal.empty()) {
+            log::get("http")->warn("{} {} from {} refused: {}", req.method, req.path, req.remote_addr, refusal);
+            sendError(res, 403, refusal);
+            return httplib::Server::HandlerResponse::Handled;
+        }
+        // Before httplib reads (and for multipart, parses) the body.
+        if (req.method == "POST" && formContentType(req.get_header_value("Content-Type"))) {
+            sendError(res, 415, "form content types are refused: send no body or application/json");
+            return httplib::Server::HandlerResponse::Handled;
+        }
+        return httplib::Server::HandlerResponse::Unhandled;
+    });
+
     const auto post = [this, &s](const std::string& path, const std::string& what, auto request) {
         s.Post(path, [this, what, request](const httplib::Request& req, httplib::Response& res) {
-            const std::string token = daemon_.token();
-            if (!token.empty()) {
-                const std::string header = req.get_header_value("Authorization");
-                const std::string prefix = "Bearer ";
-                if (header.rfind(prefix, 0) != 0 || !sameToken(header.substr(prefix.size()), token)) {
-                    res.set_header("WWW-Authenticate", "Bearer");
-                    sendError(res, 401, "this request needs the header Authorization: Bearer <http.token>");
-                    return;
-                }
-            }
-            (daemon_.*request)();
+            if (!authorised(req, res)) return;
+            if (!(this->*request)(req, res)) return;
+            log::get("http")->info("{} accepted from {}", req.path, client(req));
             sendJson(res, 202, {{"accepted", what}});
         });
         s.Get(path, [path](const httplib::Request&, httplib::Response& res) {
@@ -136,9 +189,10 @@ void HttpApi::route() {
             sendError(res, 405, path + " takes POST");
         });
     };
-    post("/v1/measure", "measure", &Daemon::requestMeasure);
-    post("/v1/baseline", "baseline", &Daemon::requestBaseline);
-    post("/v1/alarm/reset", "alarm_reset", &Daemon::requestAlarmReset);
+    post("/v1/measure", "measure", &HttpApi::measure);
+    post("/v1/baseline", "baseline", &HttpApi::baseline);
+    post("/v1/baseline/restore", "baseline_restore", &HttpApi::restoreBaseline);
+    post("/v1/alarm/reset", "alarm_reset", &HttpApi::resetAlarm);
 
     // Anything else that ends in an error without a body of ours (unknown path, wrong method,
     // a request httplib could not parse) still answers JSON.
@@ -162,6 +216,64 @@ void HttpApi::route() {
         log::get("http")->error("{} {}: {}", req.method, req.path, what);
         sendError(res, 500, "internal error: " + what);
     });
+}
+
+std::string HttpApi::refusedOrigin(const httplib::Request& req) const {
+    if (req.has_header("Origin")) {
+        const std::string origin = lower(req.get_header_value("Origin"));
+        if (std::find(origins_.begin(), origins_.end(), origin) == origins_.end()) {
+            return "requests from pages of another origin (" + origin.substr(0, 100) + ") are refused";
+        }
+    }
+    if (config::isLoopbackAddress(config_.address) && req.has_header("Host") &&
+        !loopbackHost(req.get_header_value("Host"))) {
+        return "Host must name this machine's loopback (127.0.0.1, localhost, [::1])";
+    }
+    return {};
+}
+
+bool HttpApi::authorised(const httplib::Request& req, httplib::Response& res) const {
+    const HttpToken token = daemon_.token();
+    if (token.value.empty()) {
+        log::get("http")->error("{} from {} refused: no token ({})", req.path, client(req), token.problem);
+        sendError(res, 503, "no token is configured, so no request may change anything: " + token.problem);
+        return false;
+    }
+    if (!sameToken(bearerValue(req.get_header_value("Authorization")), token.value)) {
+        log::get("http")->warn("{} from {} refused: missing or wrong token", req.path, client(req));
+        res.set_header("WWW-Authenticate", "Bearer");
+        sendError(res, 401, "this request needs the header Authorization: Bearer <token> (http.token or the file "
+                            "http.token_file)");
+        return false;
+    }
+    return true;
+}
+
+bool HttpApi::measure(const httplib::Request&, httplib::Response&) {
+    daemon_.requestMeasure();
+    return true;
+}
+
+bool HttpApi::baseline(const httplib::Request& req, httplib::Response& res) {
+    const bool force = req.has_param("force") && req.get_param_value("force") != "0";
+    if (const auto ice = daemon_.iceShown(); ice && !force) {
+        sendError(res, 409, "the current result shows ice (" + *ice +
+                                "): a baseline now would make that ice the clean reference. Post again with "
+                                "?force=1 if the blade is clean.");
+        return false;
+    }
+    daemon_.requestBaseline(client(req) + (force ? ", forced" : ""));
+    return true;
+}
+
+bool HttpApi::restoreBaseline(const httplib::Request& req, httplib::Response&) {
+    daemon_.requestBaselineRestore(client(req));
+    return true;
+}
+
+bool HttpApi::resetAlarm(const httplib::Request&, httplib::Response&) {
+    daemon_.requestAlarmReset();
+    return true;
 }
 
 }  // namespace icewatch::daemon

@@ -3,11 +3,14 @@
 #include <memory>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "core/config/config.hpp"
 
 namespace httplib {
 class Server;
+struct Request;
+struct Response;
 }
 
 namespace icewatch::daemon {
@@ -19,9 +22,13 @@ class Daemon;
 //   GET  /v1/history?since=ISO&limit=N   results since (default: the last 24 h), oldest first
 //   GET  /v1/health                      service, camera, alarm, baseline, configuration
 //   GET  /v1/images/latest/{left,disparity,thickness}.png
-//   POST /v1/measure, /v1/baseline, /v1/alarm/reset   queued for the service loop: 202
-// POSTs need "Authorization: Bearer TOKEN" when http.token is set. Malformed requests get a 4xx
-// with {"error": "..."}; nothing a client sends can stop the server.
+//   POST /v1/measure, /v1/baseline[?force=1], /v1/baseline/restore, /v1/alarm/reset
+//                                        queued for the service loop: 202
+// Every POST needs "Authorization: Bearer TOKEN" (http_token.hpp) and no form content type; a
+// request with an Origin other than this server's own is refused (403), and so is, on a loopback
+// address, a Host that is not loopback (DNS rebinding). A baseline while the current result shows
+// ice needs force=1 (409 otherwise). Malformed requests get a 4xx with {"error": "..."}; nothing a
+// client sends can stop the server (http_limits.hpp bounds what it may hold).
 class HttpApi {
 public:
     // Binds to config.address:config.port (0: any free port) and serves on its own threads.
@@ -36,9 +43,21 @@ public:
 
 private:
     void route();
+    // Empty when the request may proceed, else why not.
+    std::string refusedOrigin(const httplib::Request& req) const;
+    // Answers 401/503 itself and returns false when the POST may not proceed.
+    bool authorised(const httplib::Request& req, httplib::Response& res) const;
+    // The POST actions; false when they answered an error themselves.
+    bool measure(const httplib::Request& req, httplib::Response& res);
+    bool baseline(const httplib::Request& req, httplib::Response& res);
+    bool restoreBaseline(const httplib::Request& req, httplib::Response& res);
+    bool resetAlarm(const httplib::Request& req, httplib::Response& res);
 
     Daemon& daemon_;
     std::unique_ptr<httplib::Server> server_;
+    config::HttpConfig config_;
+    std::vector<std::string> origins_;
+    int listenFd_ = -1;
     int port_ = 0;
     std::thread thread_;
 };

@@ -18,6 +18,7 @@
 #include "core/config/config.hpp"
 #include "daemon/daemon.hpp"
 #include "daemon/http_api.hpp"
+#include "daemon/http_token.hpp"
 #include "daemon/sha256.hpp"
 #include "daemon/wiring.hpp"
 #include "drivers/log/log.hpp"
@@ -73,16 +74,42 @@ int exitStatusOf(daemon::CycleStatus status) {
     return kExitSoftware;
 }
 
-int serve(const std::string& configFile, const std::string& stateDir, bool once, bool failSafeOnly) {
+// ExecStopPost: whatever became of the service, leave SCADA reading fault and alarm. Only the gpio
+// section is read, and a file that cannot even give that still gets the lines dropped on the
+// compiled-in defaults.
+int failSafeOutputs(const std::string& configFile) {
+    std::string problem;
+    const config::GpioConfig gpio = config::loadGpioSection(configFile, problem);
+    if (!problem.empty()) {
+        log::get("daemon")->error("{}; dropping the outputs of the default gpio settings (chip {}, lines {} and {})",
+                                  problem, gpio.chip, gpio.alarmLine, gpio.healthyLine);
+    }
+    if (!gpio::openScadaOutputs(gpio)->failSafe()) {
+        throw Error(kExitUnavailable, "could not drop every output line of chip " + gpio.chip);
+    }
+    log::get("daemon")->info("alarm line {} and healthy line {} of {} de-energised", gpio.alarmLine, gpio.healthyLine,
+                             gpio.chip);
+    return kExitOk;
+}
+
+// ExecStartPre (as root): makes http.token_file when no token is configured, so that the service
+// user can read it and nobody else.
+int ensureToken(const config::Config& config) {
+    const daemon::HttpToken token = daemon::resolveHttpToken(config.http, /*create=*/true);
+    if (token.value.empty()) {
+        throw Error(kExitCantCreate, "http token: " + token.problem);
+    }
+    return kExitOk;
+}
+
+int serve(const std::string& configFile, const std::string& stateDir, bool once, bool ensureTokenOnly) {
     config::Config config = config::loadConfig(configFile);
     if (!stateDir.empty()) {
         config.daemon.stateDir = stateDir;
     }
     log::setLevel(config.log.level);
-    if (failSafeOnly) {
-        // ExecStopPost: whatever became of the service, leave SCADA reading fault and alarm.
-        gpio::openScadaOutputs(config.gpio)->failSafe();
-        return kExitOk;
+    if (ensureTokenOnly) {
+        return ensureToken(config);
     }
     daemon::DaemonOptions options{configFile, daemon::sha256OfFile(configFile).value_or(""), ICEWATCH_VERSION};
     daemon::DaemonParts parts{daemon::makeFrameSource(config), daemon::makeMeasurementChain(config),
@@ -120,12 +147,14 @@ int main(int argc, char** argv) {
     CLI::App app{"icewatchd: measures the ice on a parked blade, publishes it and signals SCADA"};
     std::string configFile = "/etc/icewatch/icewatch.json";
     std::string stateDir;
-    bool once = false, failSafe = false, verbose = false;
+    bool once = false, failSafe = false, makeToken = false, verbose = false;
     app.add_option("--config", configFile, "configuration file")->capture_default_str();
     app.add_option("--state-dir", stateDir, "state directory (overrides daemon.state_dir)");
     app.add_flag("--once", once,
                  "one cycle, result JSON on stdout; exit 0 ok, 1 refused, 66 no baseline, 75 fault");
-    app.add_flag("--fail-safe-outputs", failSafe, "de-energise the alarm and healthy lines and exit");
+    app.add_flag("--fail-safe-outputs", failSafe,
+                 "de-energise the alarm and healthy lines and exit (reads only the gpio section)");
+    app.add_flag("--ensure-token", makeToken, "create http.token_file with a random token when missing, and exit");
     app.add_flag("-v,--verbose", verbose, "log debug messages");
     app.set_version_flag("--version", std::string(ICEWATCH_VERSION));
     try {
@@ -136,7 +165,10 @@ int main(int argc, char** argv) {
     }
     log::setup(verbose ? "debug" : "info");
     try {
-        return serve(configFile, stateDir, once, failSafe);
+        if (failSafe) {
+            return failSafeOutputs(configFile);
+        }
+        return serve(configFile, stateDir, once, makeToken);
     } catch (const Error& e) {
         log::get("daemon")->critical("{}", e.what());
         return e.code();

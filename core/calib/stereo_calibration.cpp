@@ -1,4 +1,5 @@
-// Calibration data: the file format (OpenCV FileStorage with the stereo_calib sample's names),
+// Calibration data: the file format (OpenCV FileStorage YAML with the stereo_calib sample's names,
+// read with yaml-cpp),
 // its validation, the nominal HBVCAM model and rectification maps.
 #include "core/calib/stereo_calibration.hpp"
 
@@ -8,6 +9,7 @@
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
+#include <yaml-cpp/yaml.h>
 
 #include "core/common/error.hpp"
 
@@ -91,68 +93,136 @@ void checkDistortion(const cv::Mat& d, const std::string& where, const std::stri
     }
 }
 
-// An !!opencv-matrix is checked field by field before OpenCV parses it, so a hand-edited file gets
-// a message that says what is wrong rather than OpenCV's parser error or a silently short matrix.
-cv::Mat readMat(const cv::FileStorage& fs, const std::string& where, const std::string& name) {
-    const cv::FileNode node = fs[name];
-    if (node.empty()) {
+// The whole file is parsed by yaml-cpp and the matrices built from its nodes: OpenCV's FileStorage
+// parser loops for ever on some malformed files (a 101-byte fuzzed one, OpenCV 4.6) and asserts
+// on others, so it never sees a file to be read. Every problem is an Error(65) naming the entry.
+constexpr std::size_t kMaxCalibrationBytes = 1 << 20;
+
+std::string markText(const YAML::Mark& mark) {
+    return mark.is_null() ? std::string() : " (line " + std::to_string(mark.line + 1) + ", column " +
+                                                std::to_string(mark.column + 1) + ")";
+}
+
+// what names the part of the entry in the message ("rows ", "data[3] "), empty for the entry itself.
+int intOf(const YAML::Node& node, const std::string& where, const std::string& entry, const std::string& what = "") {
+    try {
+        if (node.IsScalar()) return node.as<int>();
+    } catch (const YAML::Exception&) {
+    }
+    failEntry(where, entry, what + "must be an integer" + markText(node.Mark()));
+}
+
+double numberOf(const YAML::Node& node, const std::string& where, const std::string& entry, const std::string& what) {
+    try {
+        if (node.IsScalar()) return node.as<double>();
+    } catch (const YAML::Exception&) {
+    }
+    failEntry(where, entry, what + "is not a number" + markText(node.Mark()));
+}
+
+// An !!opencv-matrix: rows, cols, dt (one channel) and rows*cols numbers in data.
+cv::Mat readMat(const YAML::Node& top, const std::string& where, const std::string& name) {
+    const YAML::Node node = top[name];
+    if (!node) {
         return {};
     }
-    if (!node.isMap()) {
+    if (!node.IsMap()) {
         failEntry(where, name, "must be an OpenCV matrix (!!opencv-matrix with rows, cols, dt and data)");
     }
-    const cv::FileNode rowsNode = node["rows"], colsNode = node["cols"], dtNode = node["dt"], data = node["data"];
-    if (!rowsNode.isInt() || !colsNode.isInt()) {
-        failEntry(where, name, "rows and cols must be integers");
-    }
-    const int rows = static_cast<int>(rowsNode), cols = static_cast<int>(colsNode);
+    const int rows = intOf(node["rows"], where, name, "rows "), cols = intOf(node["cols"], where, name, "cols ");
     if (rows < 1 || cols < 1 || rows > kMaxMatrixSide || cols > kMaxMatrixSide) {
         failEntry(where, name, "rows and cols must be between 1 and " + std::to_string(kMaxMatrixSide));
     }
-    if (!dtNode.isString()) {
-        failEntry(where, name, "dt must name the element type (d for double)");
+    const YAML::Node dt = node["dt"];
+    static const std::string kSingleChannel = "ucwsifd";
+    if (!dt || !dt.IsScalar() || dt.Scalar().size() != 1 || kSingleChannel.find(dt.Scalar()) == std::string::npos) {
+        failEntry(where, name, "dt must name a single-channel element type (d for double)");
     }
-    if (!data.isSeq()) {
+    const YAML::Node data = node["data"];
+    if (!data || !data.IsSequence()) {
         failEntry(where, name, "data must be a list of numbers");
     }
-    const size_t expected = static_cast<size_t>(rows) * static_cast<size_t>(cols);
+    const std::size_t expected = static_cast<std::size_t>(rows) * static_cast<std::size_t>(cols);
     if (data.size() != expected) {
         failEntry(where, name, "data holds " + std::to_string(data.size()) + " numbers, " + std::to_string(rows) +
                                    "x" + std::to_string(cols) + " needs " + std::to_string(expected));
     }
-    for (size_t i = 0; i < data.size(); ++i) {
-        const cv::FileNode item = data[static_cast<int>(i)];
-        if (!item.isReal() && !item.isInt()) {
-            failEntry(where, name, "data[" + std::to_string(i) + "] is not a number");
-        }
-    }
-    cv::Mat m;
-    try {
-        node >> m;
-    } catch (const cv::Exception& e) {
-        failEntry(where, name, "is not a readable matrix (" + e.err + ")");
-    }
-    if (m.empty() || m.channels() != 1 || m.total() != expected) {
-        failEntry(where, name, "must be a single-channel matrix of numbers (dt: d)");
-    }
-    if (m.depth() != CV_64F) {
-        m.convertTo(m, CV_64F);
+    cv::Mat m(rows, cols, CV_64F);
+    for (std::size_t i = 0; i < expected; ++i) {
+        m.ptr<double>()[i] = numberOf(data[i], where, name, "data[" + std::to_string(i) + "] ");  // continuous
     }
     return m;
 }
 
-int readInt(const cv::FileStorage& fs, const std::string& where, const std::string& name) {
-    cv::FileNode node = fs[name];
-    if (node.empty()) {
+int readInt(const YAML::Node& top, const std::string& where, const std::string& name) {
+    const YAML::Node node = top[name];
+    if (!node) {
         failEntry(where, name, "missing");
     }
-    if (!node.isInt()) {
-        failEntry(where, name, "must be an integer");
+    return intOf(node, where, name);
+}
+
+// The file's text as yaml-cpp takes it: OpenCV writes the directive as "%YAML:1.0", which is not
+// YAML's "%YAML 1.0".
+std::string readCalibrationText(const std::filesystem::path& path, const std::string& where) {
+    std::ifstream in(path, std::ios::binary);
+    std::string text(kMaxCalibrationBytes + 1, '\0');
+    in.read(text.data(), static_cast<std::streamsize>(text.size()));
+    if (in.bad()) {
+        throw Error(kExitNoInput, where + ": cannot read the calibration file");
     }
-    return static_cast<int>(node);
+    text.resize(static_cast<std::size_t>(in.gcount()));
+    if (text.size() > kMaxCalibrationBytes) {
+        throw Error(kExitDataErr, where + ": larger than " + std::to_string(kMaxCalibrationBytes) +
+                                      " bytes: not a calibration file");
+    }
+    if (text.rfind("%YAML:", 0) == 0) {
+        text.erase(0, text.find('\n') == std::string::npos ? text.size() : text.find('\n'));
+    }
+    return text;
 }
 
 }  // namespace
+
+StereoCalibration parseCalibration(const std::string& text, const std::string& where) {
+    YAML::Node top;
+    try {
+        top = YAML::Load(text);
+    } catch (const YAML::Exception& e) {
+        throw Error(kExitDataErr, where + ": not a YAML calibration file: " + e.msg + markText(e.mark));
+    }
+    if (!top.IsMap()) {
+        throw Error(kExitDataErr, where + ": top level: must be a map of named entries (M1, D1, ...), got " +
+                                      (top.IsSequence() ? "a sequence" : top.IsScalar() ? "a scalar" : "nothing"));
+    }
+    StereoCalibration c;
+    try {
+        c.M1 = readMat(top, where, "M1");
+        c.D1 = readMat(top, where, "D1");
+        c.M2 = readMat(top, where, "M2");
+        c.D2 = readMat(top, where, "D2");
+        c.R = readMat(top, where, "R");
+        c.T = readMat(top, where, "T");
+        c.imageSize.width = readInt(top, where, "image_width");
+        c.imageSize.height = readInt(top, where, "image_height");
+        c.R1 = readMat(top, where, "R1");
+        c.R2 = readMat(top, where, "R2");
+        c.P1 = readMat(top, where, "P1");
+        c.P2 = readMat(top, where, "P2");
+        c.Q = readMat(top, where, "Q");
+    } catch (const YAML::Exception& e) {
+        // A key lookup on a node of odd shape (an alias cycle, a complex key): still the file's fault.
+        throw Error(kExitDataErr, where + ": not a calibration file: " + e.msg + markText(e.mark));
+    }
+    if (!c.T.empty() && c.T.rows == 1 && c.T.cols == 3) {
+        c.T = c.T.t();
+    }
+    validateCalibration(c, where);
+    if (c.R1.empty() || c.R2.empty() || c.P1.empty() || c.P2.empty() || c.Q.empty()) {
+        deriveRectification(c);
+    }
+    return c;
+}
 
 double StereoCalibration::baselineMm() const {
     return T.empty() ? 0.0 : cv::norm(T);
@@ -220,36 +290,7 @@ StereoCalibration loadCalibration(const std::filesystem::path& path) {
     if (!std::filesystem::is_regular_file(path)) {
         throw Error(kExitNoInput, where + ": calibration file not found");
     }
-    cv::FileStorage fs;
-    try {
-        if (!fs.open(where, cv::FileStorage::READ)) {
-            throw Error(kExitDataErr, where + ": not a readable OpenCV calibration file");
-        }
-    } catch (const cv::Exception& e) {
-        throw Error(kExitDataErr, where + ": not a readable OpenCV calibration file (" + e.err + ")");
-    }
-    StereoCalibration c;
-    c.M1 = readMat(fs, where, "M1");
-    c.D1 = readMat(fs, where, "D1");
-    c.M2 = readMat(fs, where, "M2");
-    c.D2 = readMat(fs, where, "D2");
-    c.R = readMat(fs, where, "R");
-    c.T = readMat(fs, where, "T");
-    if (!c.T.empty() && c.T.rows == 1 && c.T.cols == 3) {
-        c.T = c.T.t();
-    }
-    c.imageSize.width = readInt(fs, where, "image_width");
-    c.imageSize.height = readInt(fs, where, "image_height");
-    c.R1 = readMat(fs, where, "R1");
-    c.R2 = readMat(fs, where, "R2");
-    c.P1 = readMat(fs, where, "P1");
-    c.P2 = readMat(fs, where, "P2");
-    c.Q = readMat(fs, where, "Q");
-    validateCalibration(c, where);
-    if (c.R1.empty() || c.R2.empty() || c.P1.empty() || c.P2.empty() || c.Q.empty()) {
-        deriveRectification(c);
-    }
-    return c;
+    return parseCalibration(readCalibrationText(path, where), where);
 }
 
 void saveCalibration(const std::filesystem::path& path, const StereoCalibration& calibration) {

@@ -29,11 +29,15 @@ void deriveRectification(StereoCalibration& calibration);
 // right eye baselineMm to the right of the left one, f from the horizontal field of view.
 StereoCalibration nominalCalibration(cv::Size eyeSize, double horizontalFovDeg, double baselineMm);
 
-// Reads and validates a calibration file (OpenCV FileStorage YAML or XML). Every entry's shape and
-// values are checked (positive focal lengths, a rotation that is one, a non-zero baseline, a
-// positive image size); R1 R2 P1 P2 Q are derived when absent. Throws Error(kExitDataErr or
-// kExitNoInput) naming the file and the entry.
+// Reads and validates a calibration file (OpenCV FileStorage YAML, parsed with yaml-cpp: OpenCV's
+// own parser can hang on a malformed file). Every entry's shape and values are checked (positive
+// focal lengths, a rotation that is one, a non-zero baseline, a positive image size); R1 R2 P1 P2
+// Q are derived when absent. Throws Error(kExitDataErr or kExitNoInput) naming the file and the
+// entry, whatever the bytes (a fuzz target holds it to that).
 StereoCalibration loadCalibration(const std::filesystem::path& path);
+
+// The same from the file's text (without OpenCV's "%YAML:1.0" line); where names it in messages.
+StereoCalibration parseCalibration(const std::string& text, const std::string& where);
 
 // Writes all entries (deriving the rectification first if missing). Throws Error(kExitCantCreate).
 void saveCalibration(const std::filesystem::path& path, const StereoCalibration& calibration);

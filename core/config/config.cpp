@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/config/json_text.hpp"
 #include "core/config/section.hpp"
 #include "core/stereo/matcher.hpp"
 
@@ -216,6 +217,18 @@ void readHttp(Section s, HttpConfig& http) {
     }
     s.read("port", http.port, 0, 65535);
     s.read("token", http.token);
+    const bool tokenFileGiven = s.has("token_file");
+    s.read("token_file", http.tokenFile);
+    if (http.tokenFile.empty()) {
+        s.fail("token_file", "must not be empty");
+    }
+    // Any machine on the network could otherwise read the results; the operator must have chosen
+    // where the credentials of the clients come from.
+    if (http.enabled && !isLoopbackAddress(http.address) && http.token.empty() && !tokenFileGiven) {
+        s.fail("address", "\"" + http.address +
+                              "\" is reachable from other machines: set http.token or http.token_file "
+                              "(or listen on 127.0.0.1 behind a reverse proxy)");
+    }
     s.finish();
 }
 
@@ -226,13 +239,16 @@ void readHistory(Section s, HistoryConfig& history) {
 
 }  // namespace
 
+bool isLoopbackAddress(const std::string& address) {
+    return address == "localhost" || address == "::1" || address == "[::1]" || address.rfind("127.", 0) == 0;
+}
+
 Config parseConfig(std::string_view text, const std::string& fileName) {
-    nlohmann::json root;
-    try {
-        root = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/true, /*ignore_comments=*/true);
-    } catch (const nlohmann::json::parse_error& e) {
-        throw ConfigError(fileName + ": not valid JSON: " + e.what());
+    JsonText parsed = parseJsonText(text);
+    if (!parsed.error.empty()) {
+        throw ConfigError(fileName + ": " + parsed.error);
     }
+    const nlohmann::json root = std::move(parsed.value);
     if (!root.is_object()) {
         throw ConfigError(fileName + ": the top level must be a JSON object");
     }
@@ -251,6 +267,31 @@ Config parseConfig(std::string_view text, const std::string& fileName) {
     readHistory(top.child("history"), config.history);
     top.finish();
     return config;
+}
+
+GpioConfig loadGpioSection(const std::filesystem::path& path, std::string& problem) {
+    try {
+        std::ifstream in(path, std::ios::binary);
+        if (!in) {
+            problem = path.string() + ": cannot read the configuration file";
+            return {};
+        }
+        std::ostringstream text;
+        text << in.rdbuf();
+        JsonText parsed = parseJsonText(text.str());
+        if (!parsed.error.empty()) {
+            problem = path.string() + ": " + parsed.error;
+            return {};
+        }
+        GpioConfig gpio;
+        if (parsed.value.is_object() && parsed.value.contains("gpio")) {
+            readGpio(Section(parsed.value["gpio"], path.string(), "gpio"), gpio);
+        }
+        return gpio;
+    } catch (const std::exception& e) {
+        problem = e.what();
+        return {};
+    }
 }
 
 Config loadConfig(const std::filesystem::path& path) {

@@ -85,8 +85,14 @@ struct HttpConfig {
     bool enabled = true;
     std::string address = "127.0.0.1";
     int port = 8088;                     // 0: any free port (tests)
-    std::string token;                   // non-empty: POSTs need "Authorization: Bearer TOKEN"
+    // Every POST needs "Authorization: Bearer TOKEN". Empty: the token is read from token_file,
+    // which icewatchd creates with a random token (mode 0640) when it does not exist.
+    std::string token;
+    std::string tokenFile = "/etc/icewatch/http-token";
 };
+
+// True for 127.0.0.0/8, ::1 and localhost: addresses no other machine can reach.
+bool isLoopbackAddress(const std::string& address);
 
 struct HistoryConfig {
     int retentionDays = 365;
@@ -113,5 +119,10 @@ Config parseConfig(std::string_view text, const std::string& fileName);
 // Reads and parses a file. A missing or unreadable file is a ConfigError too: the daemon must not
 // start on defaults when its configuration is gone.
 Config loadConfig(const std::filesystem::path& path);
+
+// Only the gpio section of a file, for `icewatchd --fail-safe-outputs`, which must drop the lines
+// whatever else the file gets wrong. Never throws: on any problem (said in problem) it returns
+// the compiled-in defaults.
+GpioConfig loadGpioSection(const std::filesystem::path& path, std::string& problem);
 
 }  // namespace icewatch::config

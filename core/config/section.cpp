@@ -16,6 +16,12 @@ const nlohmann::json& emptyObject() {
 std::string typeName(const nlohmann::json& value) {
     return value.type_name();
 }
+
+// An unsigned value above INT64_MAX would wrap to a negative number in get<std::int64_t>().
+bool fitsInt64(const nlohmann::json& value) {
+    return !value.is_number_unsigned() ||
+           value.get<std::uint64_t>() <= static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max());
+}
 }  // namespace
 
 Section::Section(const nlohmann::json& object, std::string file, std::string path)
@@ -65,6 +71,9 @@ void Section::read(const std::string& key, int& out, int min, int max) {
     }
     if (!value->is_number_integer()) {
         fail(key, "must be an integer, got " + (value->is_number() ? value->dump() : typeName(*value)));
+    }
+    if (!fitsInt64(*value)) {
+        fail(key, "must be between " + std::to_string(min) + " and " + std::to_string(max) + ", got " + value->dump());
     }
     const auto v = value->get<std::int64_t>();
     if (v < min || v > max) {
@@ -143,7 +152,7 @@ void Section::read(const std::string& key, std::map<std::string, std::int64_t>& 
     }
     std::map<std::string, std::int64_t> result;
     for (auto it = value->begin(); it != value->end(); ++it) {
-        if (!it.value().is_number_integer()) {
+        if (!it.value().is_number_integer() || !fitsInt64(it.value())) {
             fail(key + "." + it.key(), "must be an integer, got " + it.value().dump());
         }
         result[it.key()] = it.value().get<std::int64_t>();

@@ -238,7 +238,7 @@ CaptureError CameraCapture::applyControls() {
                           [](const auto& c) { return c.first.find("auto") != std::string::npos; });
     for (const auto& [name, value] : order) {
         const auto it = std::find_if(available.begin(), available.end(),
-                                     [&](const ControlInfo& c) { return c.name == name; });
+                                     [&name = name](const ControlInfo& c) { return c.name == name; });
         if (it == available.end()) {
             std::string names;
             for (const ControlInfo& c : available) names += (names.empty() ? "" : ", ") + c.name;
@@ -247,7 +247,9 @@ CaptureError CameraCapture::applyControls() {
         }
         bool valid = value >= it->minimum && value <= it->maximum;
         if (valid && it->type == V4L2_CTRL_TYPE_MENU) {
-            valid = std::any_of(it->menu.begin(), it->menu.end(), [&](const auto& m) { return m.first == value; });
+            // An init-capture: clang before 16 cannot capture a structured binding.
+            valid = std::any_of(it->menu.begin(), it->menu.end(),
+                                [&value = value](const auto& m) { return m.first == value; });
         }
         if (!valid) {
             return fail(CaptureError::kBadControl, "camera.controls." + name + ": " + std::to_string(value) +

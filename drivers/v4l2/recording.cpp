@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/common/error.hpp"
+#include "core/config/json_text.hpp"
 
 namespace icewatch::v4l2 {
 
@@ -78,7 +79,8 @@ const nlohmann::json& member(const nlohmann::json& object, const fs::path& file,
 std::int64_t integer(const nlohmann::json& object, const fs::path& file, const std::string& key,
                      const std::string& path, std::int64_t min, std::int64_t max) {
     const nlohmann::json& value = member(object, file, key);
-    if (!value.is_number_integer()) {
+    // An unsigned above INT64_MAX would wrap in get<std::int64_t>().
+    if (!value.is_number_integer() || (value.is_number_unsigned() && value.get<std::uint64_t>() > INT64_MAX)) {
         invalid(file, path, "must be an integer");
     }
     const auto v = value.get<std::int64_t>();
@@ -105,12 +107,13 @@ Recording readRecording(const fs::path& dir) {
     if (!in) {
         throw Error(kExitNoInput, file.string() + ": cannot read the recording index");
     }
-    nlohmann::json root;
-    try {
-        root = nlohmann::json::parse(in);
-    } catch (const nlohmann::json::exception& e) {
-        throw Error(kExitDataErr, file.string() + ": not valid JSON: " + e.what());
+    std::ostringstream bytes;
+    bytes << in.rdbuf();
+    config::JsonText document = config::parseJsonText(bytes.str());
+    if (!document.error.empty()) {
+        throw Error(kExitDataErr, file.string() + ": " + document.error);
     }
+    const nlohmann::json root = std::move(document.value);
     if (!root.is_object()) {
         invalid(file, "(top level)", "must be a JSON object");
     }

@@ -1,6 +1,9 @@
 // icewatch history / status / baseline capture against a state directory and a live API.
+#include <fstream>
+
 #include <gtest/gtest.h>
 
+#include "daemon/baseline_store.hpp"
 #include "daemon/http_api.hpp"
 #include "tests/daemon/rig.hpp"
 #include "tests/support/run_program.hpp"
@@ -66,6 +69,58 @@ TEST(CliCommands, BaselineCaptureRefusesAStateDirInUse) {
         {icewatchBin(), "baseline", "capture", "--config", config.string(), "--state-dir", rig.dir.string()});
     EXPECT_EQ(r.status, 75);
     EXPECT_NE(r.err.find("in use by another icewatchd"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace icewatch::daemon::test
+
+namespace icewatch::daemon::test {
+namespace {
+
+TEST(CliCommands, BaselineCaptureWhileTheLastResultShowsIceNeedsForce) {
+    const auto dir = icewatch::test::freshTempDir();
+    {
+        Rig rig({}, dir);
+        rig.daemon->runOnce();  // 1000 mm³: alarm
+    }
+    const auto config = dir / "icewatch.json";
+    std::ofstream(config) << R"({"gpio": {"chip": "fake"}})";
+    auto r = icewatch::test::runProgram(
+        {icewatchBin(), "baseline", "capture", "--config", config.string(), "--state-dir", dir.string()});
+    EXPECT_EQ(r.status, 65) << r.err;
+    EXPECT_NE(r.err.find("the last result shows ice (alarm level alarm)"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("--force"), std::string::npos) << r.err;
+}
+
+TEST(CliCommands, BaselineRestoreSwapsInThePreviousOne) {
+    const auto dir = icewatch::test::freshTempDir();
+    const StereoPair pair = texturedPair(0.5);
+    std::string error;
+    ASSERT_TRUE(saveBaseline(dir, {testEpoch(), "c0ffee", pair, "first"}, error)) << error;
+    const auto config = dir / "icewatch.json";
+    std::ofstream(config) << "{}";
+    const std::vector<std::string> restore{icewatchBin(), "baseline", "restore", "--config", config.string(),
+                                           "--state-dir", dir.string()};
+    auto r = icewatch::test::runProgram(restore);
+    EXPECT_EQ(r.status, 66) << "nothing to go back to: " << r.err;
+    ASSERT_TRUE(saveBaseline(dir, {testEpoch() + std::chrono::hours(1), "c0ffee", pair, "second"}, error)) << error;
+    r = icewatch::test::runProgram(restore);
+    EXPECT_EQ(r.status, 0) << r.err;
+    const auto record = loadBaseline(dir, error);
+    ASSERT_TRUE(record) << error;
+    EXPECT_EQ(record->requestedBy, "first");
+}
+
+TEST(CliCommands, ConfigCheckOfANumberNoDoubleHoldsExits78) {
+    auto r = icewatch::test::runProgram(
+        {icewatchBin(), "config", "check",
+         (icewatch::test::sourceDir() / "tests/core/config/bad-inputs/overflow.json").string()});
+    EXPECT_EQ(r.status, 78) << r.err;
+    EXPECT_NE(r.err.find("daemon.interval_s"), std::string::npos) << r.err;
+    const auto dir = icewatch::test::freshTempDir();
+    std::ofstream(dir / "open.json") << R"({"http": {"address": "0.0.0.0", "token": ""}})";
+    r = icewatch::test::runProgram({icewatchBin(), "config", "check", (dir / "open.json").string()});
+    EXPECT_EQ(r.status, 78) << r.err;
 }
 
 }  // namespace

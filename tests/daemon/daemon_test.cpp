@@ -319,16 +319,101 @@ TEST(Daemon, ReloadKeepsTheOldConfigWhenTheNewOneIsInvalid) {
     EXPECT_EQ(health["interval_s"], 600);
     EXPECT_EQ(health["config_sha256"], "first");
 
+    // nlohmann::json throws out_of_range for it, which escaped the reload as "internal error".
+    std::ofstream(file) << R"({"daemon": {"interval_s": 1e999}})";
+    daemon.requestReload();
+    daemon.runUntil(rig.at(1));
+    health = daemon.health();
+    EXPECT_EQ(health["reloads"]["failed"], 2);
+    EXPECT_NE(health["reloads"]["last_error"].get<std::string>().find("daemon.interval_s: the number 1e999 does not fit"),
+              std::string::npos)
+        << health["reloads"]["last_error"];
+    EXPECT_EQ(health["interval_s"], 600);
+
     std::ofstream(file) << R"({"daemon": {"interval_s": 300}})";
     daemon.requestReload();
     daemon.runUntil(rig.at(2));
     health = daemon.health();
-    EXPECT_EQ(health["reloads"]["count"], 2);
+    EXPECT_EQ(health["reloads"]["count"], 3);
     EXPECT_TRUE(health["reloads"]["last_error"].is_null());
     EXPECT_EQ(health["interval_s"], 300);
     EXPECT_EQ(health["config_sha256"].get<std::string>().size(), 64u);
     // The state directory is not taken from the reloaded file (a restart-only setting).
     EXPECT_EQ(health["state_dir"], (dir / "state").string());
+}
+
+TEST(Daemon, TheReplacedBaselineIsKeptAndCanBeRestored) {
+    Rig rig({}, icewatch::test::freshTempDir(), [](ScriptedChain& c) { c.baselineSet = false; });
+    rig.daemon->requestBaseline("first");
+    rig.daemon->runUntil(rig.at(1));
+    rig.daemon->runUntil(rig.at(100));
+    rig.daemon->requestBaseline("second");
+    rig.daemon->runUntil(rig.at(101));
+    const auto baseline = rig.dir / "baseline";
+    EXPECT_EQ(readJsonFile(baseline / "baseline.json")["requested_by"], "second");
+    EXPECT_EQ(readJsonFile(baseline / "baseline.previous.json")["requested_by"], "first");
+    EXPECT_EQ(rig.daemon->health()["baseline"]["time"], "2026-01-01T00:01:40Z");
+
+    rig.daemon->requestBaselineRestore("test");
+    rig.daemon->runUntil(rig.at(102));
+    EXPECT_EQ(readJsonFile(baseline / "baseline.json")["requested_by"], "first");
+    EXPECT_EQ(readJsonFile(baseline / "baseline.previous.json")["requested_by"], "second");
+    EXPECT_EQ(rig.daemon->health()["baseline"]["time"], "2026-01-01T00:00:00Z") << "the restored one is in use";
+    // Both records' images are still there: restoring again goes back.
+    std::string error;
+    ASSERT_TRUE(restoreBaseline(rig.dir, error)) << error;
+    EXPECT_TRUE(loadBaseline(rig.dir, error)) << error;
+}
+
+TEST(Daemon, ALatestJsonOfTheWrongShapeIsTreatedAsAbsent) {
+    for (const char* text : {R"({"time": "2026-01-01T00:00:00Z", "status": "ok"})", R"({"alarm": 5})", "[1, 2]",
+                             R"({"time": 1, "status": "ok", "alarm": "none", "camera": "ok"})"}) {
+        const auto dir = icewatch::test::freshTempDir();
+        std::ofstream(dir / "latest.json") << text;
+        Rig rig({}, dir);
+        EXPECT_FALSE(rig.daemon->latest()) << text;
+        const auto health = rig.daemon->health();  // read a missing key of a const json: undefined behaviour
+        EXPECT_EQ(health["alarm"], "fault") << text;
+        EXPECT_EQ(rig.daemon->alarmLevel(), alarm::AlarmLevel::Fault) << text;
+    }
+}
+
+TEST(Daemon, ADamagedHistoryIsMovedAsideAndMeasuringGoesOn) {
+    const auto dir = icewatch::test::freshTempDir();
+    std::ofstream(dir / "history.sqlite") << std::string(8192, 'x');  // not a database
+    Rig rig({}, dir);
+    ASSERT_TRUE(rig.daemon->runOnce());
+    EXPECT_EQ(rig.daemon->history(testEpoch(), 10).size(), 1u) << "a new history took the row";
+    bool movedAside = false;
+    for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+        if (entry.path().filename().string().rfind("history.sqlite.damaged-", 0) == 0) {
+            movedAside = true;
+            EXPECT_EQ(std::filesystem::file_size(entry.path()), 8192u) << "kept as it was, for a person";
+        }
+    }
+    EXPECT_TRUE(movedAside);
+    const auto health = rig.daemon->health();
+    EXPECT_NE(health["history_recovery"].get<std::string>().find("was damaged"), std::string::npos) << health;
+    EXPECT_EQ(health["status"], "degraded");
+}
+
+TEST(Daemon, AFailedWriteOfLatestJsonIsAFaultUntilAWriteSucceeds) {
+    Rig rig;
+    // rename() cannot replace a non-empty directory: the write of latest.json fails like on a full disk.
+    std::filesystem::create_directories(rig.dir / "latest.json" / "blocked");
+    ASSERT_TRUE(rig.daemon->runOnce());
+    auto health = rig.daemon->health();
+    EXPECT_EQ(health["status"], "fault");
+    EXPECT_NE(health["storage_fault"].get<std::string>().find("latest.json"), std::string::npos) << health;
+    EXPECT_NE((*rig.daemon->latest())["storage_fault"].get<std::string>().find("cannot write"), std::string::npos);
+
+    std::filesystem::remove_all(rig.dir / "latest.json");
+    rig.daemon->requestMeasure();
+    rig.daemon->runUntil(rig.at(1));
+    health = rig.daemon->health();
+    EXPECT_EQ(health["status"], "ok") << health;
+    EXPECT_TRUE(health["storage_fault"].is_null());
+    EXPECT_TRUE(rig.latestFile()["storage_fault"].is_null());
 }
 
 TEST(Daemon, OneDaemonPerStateDirectory) {

@@ -102,6 +102,7 @@ config::Config testConfig(const std::filesystem::path& stateDir) {
     c.alarm.alarmHoldS = 0;
     c.gpio.chip = "fake";
     c.http.port = 0;
+    c.http.tokenFile = (stateDir / "http-token").string();  // never the machine's /etc/icewatch
     return c;
 }
 

@@ -53,7 +53,7 @@ TEST(EndToEnd, RecordingThroughTheFakeCameraWithAnUnplugMidBurst) {
     // The clean-blade reference, stored as `icewatch baseline capture` stores it.
     prepareStateDir(dir / "state");
     std::string error;
-    ASSERT_TRUE(saveBaseline(dir / "state", {testEpoch(), "scene", splitSideBySide(scene.before)}, error)) << error;
+    ASSERT_TRUE(saveBaseline(dir / "state", {testEpoch(), "scene", splitSideBySide(scene.before), "test"}, error)) << error;
 
     // The device's frame 5 is the second frame of cycle 2's burst (00:10; cycle 1 and the camera
     // check at 00:05 used the earlier ones): the cable is pulled there. The device comes back on

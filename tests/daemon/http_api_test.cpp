@@ -1,6 +1,7 @@
 #include "daemon/http_api.hpp"
 
 #include <arpa/inet.h>
+#include <poll.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
 #include <unistd.h>
@@ -118,7 +119,8 @@ TEST(HttpApi, MalformedRequestsGetJsonErrors) {
     EXPECT_TRUE(longLine.empty() || longLine.find(" 4") != std::string::npos) << longLine;
     r = api.client.Get("/v1/health");
     ASSERT_TRUE(r);
-    EXPECT_EQ(r->status, 200);
+    EXPECT_EQ(r->status, 503) << "no result yet: a fault";
+    EXPECT_EQ(body(r)["alarm"], "fault");
 }
 
 TEST(HttpApi, PostsAreQueuedForTheLoopAndNeedTheToken) {
@@ -128,17 +130,146 @@ TEST(HttpApi, PostsAreQueuedForTheLoopAndNeedTheToken) {
     ASSERT_TRUE(r);
     EXPECT_EQ(r->status, 401);
     EXPECT_TRUE(body(r)["error"].is_string());
-    r = api.client.Post("/v1/measure", httplib::Headers{{"Authorization", "Bearer wrong"}}, "", "text/plain");
+    r = api.client.Post("/v1/measure", httplib::Headers{{"Authorization", "Bearer wrong"}}, "", "application/json");
     ASSERT_TRUE(r);
     EXPECT_EQ(r->status, 401);
     EXPECT_EQ(api.rig.daemon->history(testEpoch(), 10).size(), 1u);
 
-    r = api.client.Post("/v1/measure", httplib::Headers{{"Authorization", "Bearer s3cret"}}, "", "text/plain");
+    r = api.client.Post("/v1/measure", httplib::Headers{{"Authorization", "Bearer s3cret"}}, "", "application/json");
     ASSERT_TRUE(r);
     EXPECT_EQ(r->status, 202);
     EXPECT_EQ(body(r)["accepted"], "measure");
     api.rig.daemon->runUntil(api.rig.at(2));
     EXPECT_EQ(api.rig.daemon->history(testEpoch(), 10).size(), 2u) << "the request ran a cycle";
+}
+
+std::string tokenOf(const Api& api) {
+    std::string token;
+    std::getline(std::ifstream(api.rig.dir / "http-token"), token);
+    return token;
+}
+
+httplib::Headers bearer(const std::string& token) {
+    return {{"Authorization", "Bearer " + token}};
+}
+
+TEST(HttpApi, EveryPostNeedsATokenEvenWhenNoneIsConfigured) {
+    Api api;  // http.token empty: the daemon made http.token_file
+    const std::string token = tokenOf(api);
+    ASSERT_EQ(token.size(), 64u);
+    EXPECT_EQ(std::filesystem::status(api.rig.dir / "http-token").permissions() & std::filesystem::perms::all,
+              std::filesystem::perms::owner_read | std::filesystem::perms::owner_write |
+                  std::filesystem::perms::group_read);
+    for (const char* path : {"/v1/measure", "/v1/baseline?force=1", "/v1/baseline/restore", "/v1/alarm/reset"}) {
+        auto r = api.client.Post(path);
+        ASSERT_TRUE(r) << path;
+        EXPECT_EQ(r->status, 401) << path;
+        EXPECT_EQ(r->get_header_value("WWW-Authenticate"), "Bearer") << path;
+        std::string wrong = token;
+        wrong.back() = wrong.back() == '0' ? '1' : '0';
+        r = api.client.Post(path, bearer(wrong), "", "application/json");
+        ASSERT_TRUE(r) << path;
+        EXPECT_EQ(r->status, 401) << path;
+    }
+    // The scheme is case-insensitive (RFC 7235); the token is not.
+    auto r = api.client.Post("/v1/measure", httplib::Headers{{"Authorization", "bEaReR " + token}}, "", "application/json");
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 202);
+}
+
+TEST(HttpApi, CrossOriginAndFormRequestsAreRefusedWhateverTheyCarry) {
+    Api api;
+    const std::string token = tokenOf(api);
+    const std::string own = "http://127.0.0.1:" + std::to_string(api.http.port());
+    // What a page on another site submits with a plain HTML form: refused before anything else.
+    auto r = api.client.Post("/v1/baseline", httplib::Headers{{"Origin", "http://evil.example"}}, "x=1",
+                             "application/x-www-form-urlencoded");
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 403);
+    EXPECT_NE(body(r)["error"].get<std::string>().find("another origin"), std::string::npos) << r->body;
+    httplib::Headers foreign = bearer(token);
+    foreign.emplace("Origin", "null");
+    r = api.client.Post("/v1/measure", foreign, "", "application/json");
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 403) << "even with the token";
+    r = api.client.Get("/v1/latest", httplib::Headers{{"Origin", "http://evil.example"}});
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 403) << "reads too";
+    // DNS rebinding: the page's own origin, but a host name that is not this loopback.
+    r = api.client.Get("/v1/latest", httplib::Headers{{"Host", "evil.example:" + std::to_string(api.http.port())}});
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 403);
+    for (const char* type : {"application/x-www-form-urlencoded", "multipart/form-data; boundary=x", "text/plain"}) {
+        r = api.client.Post("/v1/measure", bearer(token), "", type);
+        ASSERT_TRUE(r) << type;
+        EXPECT_EQ(r->status, 415) << type;
+    }
+    httplib::Headers same = bearer(token);
+    same.emplace("Origin", own);
+    r = api.client.Post("/v1/measure", same, "", "application/json");
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 202) << "this server's own origin with the token";
+}
+
+TEST(HttpApi, ABaselineWhileTheResultShowsIceNeedsForce) {
+    Api api;
+    const std::string token = tokenOf(api);
+    api.rig.daemon->runOnce();  // the scripted chain measures 1000 mm³: alarm level
+    ASSERT_EQ(api.rig.latestFile()["alarm"], "alarm");
+    auto r = api.client.Post("/v1/baseline", bearer(token), "", "application/json");
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 409);
+    EXPECT_NE(body(r)["error"].get<std::string>().find("shows ice (alarm level alarm)"), std::string::npos) << r->body;
+    api.rig.daemon->runUntil(api.rig.at(1));
+    EXPECT_TRUE(api.rig.daemon->health()["last_baseline_capture"].is_null()) << "nothing was captured";
+    r = api.client.Post("/v1/baseline?force=1", bearer(token), "", "application/json");
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 202);
+    api.rig.daemon->runUntil(api.rig.at(2));
+    const auto capture = api.rig.daemon->health()["last_baseline_capture"];
+    EXPECT_TRUE(capture["ok"].get<bool>()) << capture;
+    EXPECT_NE(capture["requested_by"].get<std::string>().find("http 127.0.0.1"), std::string::npos) << capture;
+}
+
+TEST(HttpApi, FortySlowClientsDoNotBlockTheHealthProbe) {
+    Api api;
+    api.rig.daemon->runOnce();
+    // Each holds a worker with a request it never finishes.
+    std::vector<int> slow;
+    for (int i = 0; i < 40; ++i) {
+        const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+        sockaddr_in addr{};
+        addr.sin_family = AF_INET;
+        addr.sin_port = htons(static_cast<uint16_t>(api.http.port()));
+        addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+        ASSERT_EQ(::connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr), 0);
+        const std::string start = "GET /v1/health HTTP/1.1\r\nHost: 127.0.0.1\r\nX-Slow: ";
+        ASSERT_EQ(::write(fd, start.data(), start.size()), static_cast<ssize_t>(start.size()));
+        slow.push_back(fd);
+    }
+    auto r = api.client.Get("/v1/health");
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 200);
+    // Answered while they all still hold their connection: the server has closed none of them
+    // (with too few workers the probe is served only after it times the slow ones out).
+    std::vector<pollfd> fds;
+    for (int fd : slow) fds.push_back({fd, POLLIN, 0});
+    EXPECT_EQ(::poll(fds.data(), fds.size(), 0), 0) << "a slow connection was closed before the probe was answered";
+    for (int fd : slow) ::close(fd);
+}
+
+TEST(HttpApi, AHeaderFloodIsRefused) {
+    Api api;
+    api.rig.daemon->runOnce();
+    std::string flood = "GET /v1/health HTTP/1.1\r\nHost: 127.0.0.1\r\n";
+    for (int i = 0; i < 2000; ++i) flood += "X-Flood-" + std::to_string(i) + ": " + std::string(100, 'a') + "\r\n";
+    flood += "\r\n";
+    const std::string answer = rawExchange(api.http.port(), flood);
+    EXPECT_TRUE(answer.empty() || answer.find(" 431 ") != std::string::npos || answer.find(" 400 ") != std::string::npos)
+        << answer;
+    auto r = api.client.Get("/v1/health");
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 200);
 }
 
 TEST(HttpApi, PicturesOfTheLastCycle) {
@@ -159,6 +290,7 @@ TEST(HttpApi, HealthSaysWhatIsWrong) {
     api.rig.daemon->runOnce();
     auto r = api.client.Get("/v1/health");
     ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 503) << "a probe that reads only the status code sees the fault";
     const auto health = body(r);
     EXPECT_EQ(health["status"], "fault");
     EXPECT_EQ(health["camera"], "offline");

@@ -40,7 +40,8 @@ std::string configText(const std::filesystem::path& dir, const std::string& inte
     return R"({"daemon": {"interval_s": )" + interval + R"(, "state_dir": ")" + (dir / "state").string() +
            R"("}, "calibration": {"file": ")" + calibration.string() + R"("}, "camera": {"device": "fake:)" +
            (icewatch::test::sourceDir() / "tools" / "demo" / "recording").string() + R"("},
-              "gpio": {"chip": "fake:)" + (dir / "gpio.log").string() + R"("}, "http": {"port": 0}})";
+              "gpio": {"chip": "fake:)" + (dir / "gpio.log").string() + R"("},
+              "http": {"port": 0, "token_file": ")" + (dir / "http-token").string() + R"("}})";
 }
 
 class Process {
@@ -156,6 +157,22 @@ TEST(Icewatchd, ReadySighupWithABadConfigKeepsTheOldOneSigtermExitsClean) {
     EXPECT_EQ(h["interval_s"], 600);
     EXPECT_EQ(h["alarm"], "fault") << "no baseline in this test: never shown as no ice";
 
+    // A number no double holds threw past every catch and killed the daemon (exit 70).
+    std::filesystem::copy_file(icewatch::test::sourceDir() / "tests/core/config/bad-inputs/overflow.json", configFile,
+                               std::filesystem::copy_options::overwrite_existing);
+    daemon.signal(SIGHUP);
+    for (int waited = 0; waited < kGuardMs; waited += 20) {
+        h = health();
+        if (h.is_object() && h["reloads"]["count"] == 2) break;
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    ASSERT_TRUE(h.is_object()) << "the daemon still answers";
+    EXPECT_EQ(h["reloads"]["failed"], 2);
+    EXPECT_NE(h["reloads"]["last_error"].get<std::string>().find("daemon.interval_s: the number 1e999"),
+              std::string::npos)
+        << h["reloads"]["last_error"];
+    EXPECT_EQ(h["config_sha256"], firstSha);
+
     daemon.signal(SIGTERM);
     EXPECT_EQ(daemon.awaitExit(), 0);
     // Whatever the lines did, both end de-energised: fault and alarm for SCADA.
@@ -194,6 +211,112 @@ TEST(Icewatchd, InvalidConfigurationExits78) {
     EXPECT_EQ(run.status, 78);
     EXPECT_NE(run.err.find("alarm.warning_clear: must be below warning_set"), std::string::npos) << run.err;
     EXPECT_FALSE(std::filesystem::exists(dir / "state")) << "no state touched";
+}
+
+// The blade demo's clean recording, measured against itself, through a camera whose faults are
+// set in camera.device.
+std::string faultyCameraConfig(const std::filesystem::path& dir, const std::string& device) {
+    const auto blade = icewatch::test::sourceDir() / "tools" / "demo" / "blade";
+    nlohmann::json config = nlohmann::json::parse(std::ifstream(blade / "icewatch-baseline.json"), nullptr, false);
+    config["calibration"]["file"] = (blade / "calibration.yaml").string();
+    config["camera"]["device"] = device;
+    config["camera"]["frame_timeout_ms"] = 300;
+    config["camera"]["reconnect_min_ms"] = 10;
+    config["camera"]["reconnect_max_ms"] = 50;
+    config["daemon"]["interval_s"] = 3600;
+    config["daemon"]["camera_check_s"] = 1;
+    config["daemon"]["state_dir"] = (dir / "state").string();
+    config["gpio"]["chip"] = "fake:" + (dir / "gpio.log").string();
+    config["http"] = {{"port", 0}, {"token_file", (dir / "http-token").string()}};
+    config["log"]["level"] = "debug";  // dropped frames are logged at debug
+    return config.dump(2);
+}
+
+TEST(Icewatchd, ComesThroughUnplugStallAndCorruptFramesOfTheCamera) {
+    const auto dir = icewatch::test::freshTempDir();
+    const std::string recording = (icewatch::test::sourceDir() / "tools/demo/blade/baseline").string();
+    std::ofstream(dir / "baseline.json") << faultyCameraConfig(dir, "fake:" + recording);
+    const auto baseline = icewatch::test::runProgram({(icewatch::test::binDir() / "icewatch").string(), "baseline",
+                                                      "capture", "--config", (dir / "baseline.json").string()});
+    ASSERT_EQ(baseline.status, 0) << baseline.err;
+
+    // Frame 1 arrives cut in half, frame 7 unplugs the camera, frame 14 stalls it. At pace=fast a
+    // frame is made only when the daemon waits for one, so the order does not depend on timing.
+    const auto configFile = dir / "icewatch.json";
+    std::ofstream(configFile) << faultyCameraConfig(
+        dir, "fake:" + recording + "?pace=fast&truncate=1&unplug_at=7&stall_at=14&replug_after=1");
+    Process daemon(dir, {"--config", configFile.string()});
+    ASSERT_FALSE(daemon.awaitNotify("READY=1").empty());
+
+    // SCADA's view: healthy on the first result, dropped at the unplug, back, dropped at the stall, back.
+    const std::vector<bool> expected{true, false, true, false, true};
+    std::vector<bool> healthy;
+    for (int waited = 0; waited < 4 * kGuardMs && healthy.size() < expected.size(); waited += 100) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(100));
+        healthy.clear();
+        for (const auto& t : gpio::readTransitionFile(dir / "gpio.log")) {
+            if (t.line == "healthy" && (healthy.empty() ? t.energised : t.energised != healthy.back())) {
+                healthy.push_back(t.energised);
+            }
+        }
+    }
+    EXPECT_EQ(healthy, expected);
+    daemon.signal(SIGTERM);
+    EXPECT_EQ(daemon.awaitExit(), 0);
+
+    std::ifstream logFile(dir / "icewatchd.log");
+    const std::string log((std::istreambuf_iterator<char>(logFile)), std::istreambuf_iterator<char>());
+    EXPECT_NE(log.find(": dropped frame "), std::string::npos) << "the cut frame was dropped, not measured";
+    EXPECT_NE(log.find("offline (disconnected)"), std::string::npos);
+    EXPECT_NE(log.find("offline (stalled)"), std::string::npos);
+    const auto latest = nlohmann::json::parse(std::ifstream(dir / "state" / "latest.json"), nullptr, false);
+    EXPECT_EQ(latest["status"], "ok") << latest;
+    EXPECT_EQ(latest["alarm"], "none") << latest;
+}
+
+TEST(Icewatchd, FailSafeOutputsDropTheLinesWhateverElseTheFileGetsWrong) {
+    const auto dir = icewatch::test::freshTempDir();
+    const auto configFile = dir / "icewatch.json";
+    const auto failSafe = [&] {
+        return icewatch::test::runProgram({(icewatch::test::binDir() / "icewatchd").string(), "--config",
+                                           configFile.string(), "--fail-safe-outputs"});
+    };
+    // Only the gpio section is read: the rest of the file may be wrong.
+    std::ofstream(configFile) << R"({"daemon": {"interval_s": "often"}, "camera": {"nonsense": 1},
+                                     "gpio": {"chip": "fake:)" + (dir / "gpio.log").string() + R"("}})";
+    auto run = failSafe();
+    EXPECT_EQ(run.status, 0) << run.err;
+    EXPECT_NE(run.err.find("alarm line 17 and healthy line 27 of fake:" + (dir / "gpio.log").string() + " de-energised"),
+              std::string::npos)
+        << run.err;
+    // A file that is not even JSON (a number no double holds): the compiled-in gpio settings are
+    // dropped; there is no gpiochip0 here, so that fails as unavailable (69), not as a config error.
+    std::filesystem::copy_file(icewatch::test::sourceDir() / "tests/core/config/bad-inputs/overflow.json", configFile,
+                               std::filesystem::copy_options::overwrite_existing);
+    run = failSafe();
+    EXPECT_NE(run.err.find("dropping the outputs of the default gpio settings (chip gpiochip0"), std::string::npos)
+        << run.err;
+    EXPECT_NE(run.status, 78) << run.err;
+}
+
+TEST(Icewatchd, EnsureTokenMakesAPrivateTokenFileOnce) {
+    const auto dir = icewatch::test::freshTempDir();
+    const auto configFile = dir / "icewatch.json";
+    std::ofstream(configFile) << configText(dir);
+    const std::vector<std::string> args{(icewatch::test::binDir() / "icewatchd").string(), "--config",
+                                        configFile.string(), "--ensure-token"};
+    ASSERT_EQ(icewatch::test::runProgram(args).status, 0);
+    const auto status = std::filesystem::status(dir / "http-token");
+    EXPECT_EQ(status.permissions() & std::filesystem::perms::all,
+              std::filesystem::perms::owner_read | std::filesystem::perms::owner_write |
+                  std::filesystem::perms::group_read);
+    std::string first;
+    std::getline(std::ifstream(dir / "http-token"), first);
+    EXPECT_EQ(first.size(), 64u);
+    ASSERT_EQ(icewatch::test::runProgram(args).status, 0);
+    std::string second;
+    std::getline(std::ifstream(dir / "http-token"), second);
+    EXPECT_EQ(first, second) << "an existing token is kept";
 }
 
 }  // namespace

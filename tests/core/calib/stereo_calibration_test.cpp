@@ -79,6 +79,26 @@ TEST(StereoCalibration, BadFilesNameTheEntry) {
 }
 
 // config/calibration/ carries the nominal HBVCAM model for every supported side-by-side mode.
+// Files that hung OpenCV's FileStorage (hang.yaml: at 100 % CPU for ever) or escaped as "internal
+// error" (exit 70): each is now a data error (65) naming the file. A hang fails by the test timeout.
+TEST(StereoCalibration, TheAuditsMalformedFilesAreDataErrors) {
+    const auto dir = test::sourceDir() / "tests/core/calib/bad-inputs";
+    for (const char* name : {"hang.yaml", "length_error.yaml", "sequence.yaml", "not_a_map.yaml"}) {
+        try {
+            loadCalibration(dir / name);
+            ADD_FAILURE() << name << " loaded";
+        } catch (const Error& e) {
+            EXPECT_EQ(e.code(), kExitDataErr) << name << ": " << e.what();
+            EXPECT_EQ(std::string(e.what()).rfind((dir / name).string() + ": ", 0), 0u) << e.what();
+        }
+    }
+    try {
+        loadCalibration(dir / "sequence.yaml");
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("top level: must be a map"), std::string::npos) << e.what();
+    }
+}
+
 TEST(StereoCalibration, ShippedNominalFilesMatchTheModel) {
     const std::pair<const char*, cv::Size> modes[] = {
         {"1280x480", {640, 480}}, {"2560x720", {1280, 720}}, {"3840x1080", {1920, 1080}}, {"3840x1520", {1920, 1520}}};

@@ -238,5 +238,60 @@ TEST(Config, BrokenJsonAndMissingFile) {
     }
 }
 
+TEST(Config, ANumberNoDoubleHoldsIsAConfigErrorNamingTheKey) {
+    // nlohmann::json throws out_of_range for these, which is no parse_error.
+    EXPECT_NE(errorOf(R"({"daemon": {"interval_s": 1e999}})").find("test.json: daemon.interval_s: the number 1e999"),
+              std::string::npos)
+        << errorOf(R"({"daemon": {"interval_s": 1e999}})");
+    EXPECT_NE(errorOf(R"({"alarm": {"warning_set": -1e400}})").find("alarm.warning_set: the number -1e400"),
+              std::string::npos);
+    EXPECT_NE(errorOf(R"({"volume": {"roi_polygon": [1, 2, 3e999]}})").find("volume.roi_polygon[2]: the number"),
+              std::string::npos)
+        << errorOf(R"({"volume": {"roi_polygon": [1, 2, 3e999]}})");
+    // Above INT64_MAX: an unsigned that get<int64_t>() would have wrapped to -1.
+    EXPECT_NE(errorOf(R"({"camera": {"controls": {"exposure_time_absolute": 18446744073709551615}}})")
+                  .find("camera.controls.exposure_time_absolute: must be an integer"),
+              std::string::npos);
+    EXPECT_NE(errorOf(R"({"daemon": {"interval_s": 18446744073709551615}})").find("daemon.interval_s: must be between"),
+              std::string::npos);
+    try {
+        loadConfig(test::sourceDir() / "tests/core/config/bad-inputs/overflow.json");
+        FAIL() << "must not load";
+    } catch (const ConfigError& e) {
+        EXPECT_EQ(e.code(), kExitConfig);
+    }
+}
+
+TEST(Config, ANonLoopbackAddressNeedsAToken) {
+    EXPECT_NE(errorOf(R"({"http": {"address": "0.0.0.0", "token": ""}})").find("http.address: \"0.0.0.0\" is reachable"),
+              std::string::npos);
+    EXPECT_EQ(parseConfig(R"({"http": {"address": "0.0.0.0", "token": "0123456789abcdef"}})", "t").http.address,
+              "0.0.0.0");
+    EXPECT_EQ(parseConfig(R"({"http": {"address": "10.0.0.2", "token_file": "/etc/icewatch/http-token"}})", "t")
+                  .http.address,
+              "10.0.0.2");
+    EXPECT_EQ(parseConfig(R"({"http": {"address": "127.0.0.2"}})", "t").http.tokenFile, "/etc/icewatch/http-token");
+    EXPECT_EQ(parseConfig(R"({"http": {"address": "0.0.0.0", "enabled": false}})", "t").http.enabled, false);
+}
+
+TEST(Config, TheGpioSectionAloneIsReadFromAnyFile) {
+    const auto dir = test::freshTempDir();
+    std::ofstream(dir / "broken.json") << R"({"daemon": {"interval_s": 1e999}, "gpio": {"chip": "fake", "alarm_line": 5}})";
+    std::string problem;
+    GpioConfig gpio = loadGpioSection(dir / "broken.json", problem);
+    EXPECT_FALSE(problem.empty()) << "the file does not parse: defaults";
+    EXPECT_EQ(gpio.chip, GpioConfig{}.chip);
+    std::ofstream(dir / "other.json") << R"({"daemon": {"interval_s": "often"}, "gpio": {"chip": "fake", "alarm_line": 5}})";
+    problem.clear();
+    gpio = loadGpioSection(dir / "other.json", problem);
+    EXPECT_TRUE(problem.empty()) << problem;
+    EXPECT_EQ(gpio.chip, "fake");
+    EXPECT_EQ(gpio.alarmLine, 5);
+    problem.clear();
+    gpio = loadGpioSection(dir / "absent.json", problem);
+    EXPECT_FALSE(problem.empty());
+    EXPECT_EQ(gpio.alarmLine, GpioConfig{}.alarmLine);
+}
+
 }  // namespace
 }  // namespace icewatch::config
