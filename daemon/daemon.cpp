@@ -336,6 +336,7 @@ void Daemon::resetAlarm() {
         if (!writeFileAtomically(stateDir_ / "latest.json", latest_->dump(2) + "\n")) {
             logger()->error("cannot write {}", (stateDir_ / "latest.json").string());
         }
+        if (sink_) sink_->published({*latest_, false, alarm_.latched()});
     }
 }
 
@@ -405,6 +406,7 @@ CycleResult Daemon::publish(CycleResult result, const ChainPictures& pictures, b
     }
     std::lock_guard lock(mutex_);
     latest_ = doc;
+    if (sink_) sink_->published({doc, true, alarm_.latched()});
     return result;
 }
 

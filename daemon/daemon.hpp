@@ -19,6 +19,7 @@
 #include "daemon/history.hpp"
 #include "daemon/measurement_chain.hpp"
 #include "daemon/notifier.hpp"
+#include "daemon/scada/publication.hpp"
 #include "daemon/state_dir.hpp"
 #include "drivers/gpio/scada_outputs.hpp"
 
@@ -65,6 +66,8 @@ public:
     void requestAlarmReset();
     void requestReload();
     void setReadyStatus(std::string status);
+    // The SCADA interfaces, told of every document written to latest.json. Set before run().
+    void setPublicationSink(scada::PublicationSink* sink) { sink_ = sink; }
 
     // Views for the HTTP API.
     std::optional<nlohmann::json> latest() const;  // with "stale"; nullopt before the first result
@@ -121,6 +124,7 @@ private:
     int failedReloads_ = 0;
     std::string lastReloadError_;
     std::chrono::steady_clock::time_point lastWatchdog_{};
+    scada::PublicationSink* sink_ = nullptr;  // called on the loop thread, with mutex_ held
 };
 
 }  // namespace icewatch::daemon
