@@ -34,10 +34,14 @@ void initLibrary() {
     std::call_once(once, [] { mosquitto_lib_init(); });
 }
 
-std::string describe(int code) {
-    std::string text = code == MOSQ_ERR_ERRNO ? std::strerror(errno) : mosquitto_strerror(code);
-    if (!text.empty() && text.back() == '.') text.pop_back();  // it goes inside a sentence
+// libmosquitto's messages end in a full stop; ours go on after them.
+std::string clause(std::string text) {
+    if (!text.empty() && text.back() == '.') text.pop_back();
     return text;
+}
+
+std::string describe(int code) {
+    return clause(code == MOSQ_ERR_ERRNO ? std::strerror(errno) : mosquitto_strerror(code));
 }
 
 std::string readPassword(const std::string& path) {
@@ -53,7 +57,7 @@ std::string readPassword(const std::string& path) {
 }  // namespace
 
 MqttPublisher::MqttPublisher(const config::MqttConfig& config, const std::string& hostname)
-    : config_(config), client_(nullptr, &mosquitto_destroy) {
+    : config_(config), client_(nullptr, &mosquitto_destroy), connection_(logger()) {
     const auto broker = config::parseBrokerUrl(config.broker);
     if (!broker) {
         throw Error(kExitConfig, "scada.mqtt.broker: not mqtt://host[:port] or mqtts://host[:port]: \"" +
@@ -175,10 +179,9 @@ void MqttPublisher::publishOne(const std::string& topic, const std::string& payl
 }
 
 void MqttPublisher::failed(const std::string& what) {
-    if (what == lastFailure_) return;
-    lastFailure_ = what;
-    logger()->warn("broker {}: {}; retrying in the background (back-off up to {} s)", config_.broker, what,
-                   config_.reconnectMaxS);
+    connection_.report(what, spdlog::level::warn,
+                       "broker " + config_.broker + ": " + what + "; retrying in the background (back-off up to " +
+                           std::to_string(config_.reconnectMaxS) + " s)");
 }
 
 void MqttPublisher::backOff() {
@@ -202,17 +205,12 @@ void MqttPublisher::finish() {
 void MqttPublisher::onConnect(mosquitto*, void* self, int code) {
     auto* p = static_cast<MqttPublisher*>(self);
     if (code != 0) {
-        p->refusal_ = std::string("the broker refused the connection: ") + mosquitto_connack_string(code);
+        p->refusal_ = "the broker refused the connection: " + clause(mosquitto_connack_string(code));
         return;
     }
     p->connected_ = true;
     p->backoff_ = std::chrono::seconds(1);
-    if (p->lastFailure_.empty()) {
-        logger()->info("connected to {}", p->config_.broker);
-    } else {
-        logger()->info("connected to {} again", p->config_.broker);
-    }
-    p->lastFailure_.clear();
+    p->connection_.report("connected", spdlog::level::info, "connected to " + p->config_.broker);
     p->publishOne(p->prefix_ + "/status", "online");
     std::lock_guard lock(p->mutex_);
     p->dirty_ = true;  // the newest result, whatever the broker kept or lost

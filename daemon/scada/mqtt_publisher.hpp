@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/config/scada_config.hpp"
+#include "drivers/log/log.hpp"
 
 struct mosquitto;
 
@@ -58,7 +59,7 @@ private:
     // The MQTT thread's own state.
     bool connected_ = false;
     std::chrono::seconds backoff_{1};
-    std::string lastFailure_;
+    log::StateLog connection_;  // "connected" or the failure: each logged once as it changes
     std::string refusal_;  // the broker's reason for refusing the last CONNECT
 
     std::mutex mutex_;

@@ -5,7 +5,6 @@
 
 #include <cmath>
 #include <fstream>
-#include <sstream>
 #include <thread>
 
 #include <modbus.h>
@@ -51,11 +50,7 @@ struct Site {
     nlohmann::json latestFile() const {
         return nlohmann::json::parse(std::ifstream(dir / "state" / "latest.json"), nullptr, false);
     }
-    std::string log() const {
-        std::stringstream text;
-        text << std::ifstream(dir / "icewatchd.log").rdbuf();
-        return text.str();
-    }
+    std::string log() const { return readText(dir / "icewatchd.log"); }
     // The Modbus client, once the daemon listens.
     std::unique_ptr<ModbusClient> modbus() const {
         std::unique_ptr<ModbusClient> client;
@@ -172,13 +167,8 @@ TEST(IcewatchdScada, ABrokerAwayMidRunStopsNoMeasurementAndGetsTheLatestWhenBack
     EXPECT_TRUE(sameJson(*latest, during)) << "the result measured while the broker was away";
     EXPECT_EQ(subscriber.await(s.prefix + "/status"), "online");
 
-    const std::string log = s.log();
-    std::size_t refusals = 0;
-    for (auto at = log.find("Connection refused"); at != std::string::npos; at = log.find("Connection refused", at + 1)) {
-        ++refusals;
-    }
-    EXPECT_EQ(refusals, 2u) << "once before the broker first came, once while it was away, not per attempt\n"
-                            << log;
+    EXPECT_EQ(occurrences(s.log(), "Connection refused"), 2u)
+        << "once before the broker first came, once while it was away, not per attempt\n" << s.log();
     daemon.signal(SIGTERM);
     EXPECT_EQ(daemon.awaitExit(), 0) << s.log();
     s.broker.stop();

@@ -14,6 +14,7 @@
 #include <bit>
 #include <cerrno>
 #include <fstream>
+#include <sstream>
 #include <stdexcept>
 #include <thread>
 
@@ -63,6 +64,18 @@ int freeLoopbackPort() {
     return ntohs(address.sin_port);
 }
 
+std::string readText(const std::filesystem::path& path) {
+    std::stringstream text;
+    text << std::ifstream(path).rdbuf();
+    return text.str();
+}
+
+std::size_t occurrences(const std::string& text, const std::string& what) {
+    std::size_t n = 0;
+    for (auto at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+    return n;
+}
+
 ChildProcess::ChildProcess(const std::vector<std::string>& argv, const std::filesystem::path& log) {
     posix_spawn_file_actions_t actions;
     posix_spawn_file_actions_init(&actions);
@@ -106,9 +119,10 @@ bool ChildProcess::running() {
     return pid_ > 0 && ::waitpid(pid_, nullptr, WNOHANG) == 0;
 }
 
-Broker::Broker(const std::filesystem::path& dir) : dir_(dir), port_(freeLoopbackPort()) {
+Broker::Broker(const std::filesystem::path& dir, const std::string& extraConfig) : dir_(dir), port_(freeLoopbackPort()) {
     std::ofstream(dir_ / "mosquitto.conf") << "listener " << port_ << " 127.0.0.1\n"
-                                           << "allow_anonymous true\npersistence false\n";
+                                           << "allow_anonymous true\npersistence false\n"
+                                           << extraConfig;
 }
 
 void Broker::start() {

@@ -30,6 +30,10 @@ bool waitFor(const std::function<bool()>& done, std::chrono::milliseconds guard 
 // A port nothing listens on at the moment (the kernel's choice for a bind to port 0).
 int freeLoopbackPort();
 
+// A whole text file ("" when there is none), and how often what occurs in text.
+std::string readText(const std::filesystem::path& path);
+std::size_t occurrences(const std::string& text, const std::string& what);
+
 // A child process, its stdout and stderr appended to log; killed if still running at the end.
 class ChildProcess {
 public:
@@ -47,10 +51,11 @@ private:
     pid_t pid_ = -1;
 };
 
-// mosquitto on 127.0.0.1:port, anonymous, without persistence (a restart forgets everything).
+// mosquitto on 127.0.0.1:port, anonymous, without persistence (a restart forgets everything);
+// extraConfig is appended to its configuration (another listener, say).
 class Broker {
 public:
-    explicit Broker(const std::filesystem::path& dir);
+    explicit Broker(const std::filesystem::path& dir, const std::string& extraConfig = "");
     void start();  // on the same port every time; returns once it accepts connections
     void stop();   // SIGTERM, waits for the exit
     int port() const { return port_; }
