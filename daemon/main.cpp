@@ -104,19 +104,20 @@ int serve(const std::string& configFile, const std::string& stateDir, bool once,
         std::cout << service.latest()->dump(2) << "\n";
         return exitStatusOf(result->status);
     }
+    // SCADA interfaces belong to the running service, as the GPIO lines do (none with --once).
+    // They start first: a Modbus port in use ends the start before the HTTP server runs.
+    std::unique_ptr<daemon::scada::ScadaInterfaces> scada;
+    if (!config.scada.modbus.listen.empty() || !config.scada.mqtt.broker.empty()) {
+        scada = std::make_unique<daemon::scada::ScadaInterfaces>(config.scada, service, &heartbeat);
+        service.setPublicationSink(scada.get());
+    }
     std::string ready = "measuring every " + std::to_string(config.daemon.intervalS) + " s";
     std::unique_ptr<daemon::HttpApi> http;
     if (config.http.enabled) {
         http = std::make_unique<daemon::HttpApi>(service, config.http);
         ready += ", http " + config.http.address + ":" + std::to_string(http->port());
     }
-    // SCADA interfaces belong to the running service, as the GPIO lines do (none with --once).
-    std::unique_ptr<daemon::scada::ScadaInterfaces> scada;
-    if (!config.scada.modbus.listen.empty() || !config.scada.mqtt.broker.empty()) {
-        scada = std::make_unique<daemon::scada::ScadaInterfaces>(config.scada, service, &heartbeat);
-        service.setPublicationSink(scada.get());
-        ready += ", " + scada->summary();
-    }
+    if (scada) ready += ", " + scada->summary();
     service.setReadyStatus(ready);
     service.run();
     log::get("daemon")->info("stopped");

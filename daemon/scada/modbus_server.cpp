@@ -106,9 +106,12 @@ ModbusServer::ModbusServer(const config::ModbusConfig& config, ModbusHooks hooks
     port_ = portOf(c.listenFd);
     c.mapping = modbus_mapping_new_start_address(0, config_.allowWrites ? kCoilCount : 0, 0, kDiscreteInputCount, 0,
                                                  0, 0, kInputRegisterCount);
-    wakeFd_ = ::eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK);
-    if (c.mapping == nullptr || wakeFd_ < 0) {
+    if (c.mapping == nullptr) {
         throw Error(kExitSoftware, std::string("modbus: cannot allocate the register map: ") + std::strerror(errno));
+    }
+    wakeFd_ = ::eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK);
+    if (wakeFd_ < 0) {
+        throw Error(kExitSoftware, std::string("modbus: cannot create an eventfd: ") + std::strerror(errno));
     }
     image_ = emptyImage();
     thread_ = std::thread([this] { serve(); });

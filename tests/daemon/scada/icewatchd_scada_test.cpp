@@ -13,7 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "core/calib/stereo_calibration.hpp"
-#include "daemon/scada/register_map.hpp"
+#include "daemon/scada/modbus_server.hpp"
 #include "tests/daemon/scada/scada_rig.hpp"
 #include "tests/support/test_paths.hpp"
 
@@ -172,6 +172,15 @@ TEST(IcewatchdScada, ABrokerAwayMidRunStopsNoMeasurementAndGetsTheLatestWhenBack
     daemon.signal(SIGTERM);
     EXPECT_EQ(daemon.awaitExit(), 0) << s.log();
     s.broker.stop();
+}
+
+TEST(IcewatchdScada, AModbusPortInUseStopsTheStartWithStatus69) {
+    Site s;
+    ModbusServer occupant({"127.0.0.1:" + std::to_string(s.modbusPort), 1, false}, {});
+    ChildProcess daemon = s.startDaemon();
+    EXPECT_EQ(daemon.awaitExit(), 69) << "EX_UNAVAILABLE: systemd restarts it later\n" << s.log();
+    EXPECT_NE(s.log().find("cannot listen on 127.0.0.1:" + std::to_string(s.modbusPort)), std::string::npos)
+        << s.log();
 }
 
 }  // namespace
