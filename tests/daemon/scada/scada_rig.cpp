@@ -188,8 +188,9 @@ std::optional<std::string> Subscriber::await(const std::string& topic,
 
 ModbusClient::ModbusClient(int port, int unit) : ctx_(modbus_new_tcp("127.0.0.1", port)) {
     if (ctx_ == nullptr || modbus_set_slave(ctx_, unit) != 0 || modbus_connect(ctx_) != 0) {
-        throw std::runtime_error("cannot connect a Modbus client to port " + std::to_string(port) + ": " +
-                                 modbus_strerror(errno));
+        const std::string why = modbus_strerror(errno);
+        if (ctx_ != nullptr) modbus_free(ctx_);
+        throw std::runtime_error("cannot connect a Modbus client to port " + std::to_string(port) + ": " + why);
     }
     modbus_set_response_timeout(ctx_, 5, 0);
 }
