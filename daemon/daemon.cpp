@@ -391,6 +391,7 @@ void Daemon::resetAlarm() {
         if (!writeFileAtomically(stateDir_ / "latest.json", latest_->dump(2) + "\n")) {
             logger()->error("cannot write {}", (stateDir_ / "latest.json").string());
         }
+        if (sink_) sink_->published({*latest_, false, alarm_.latched()});
     }
 }
 
@@ -481,6 +482,7 @@ CycleResult Daemon::publish(CycleResult result, const ChainPictures& pictures, b
     latest_ = doc;
     storageFault_ = doc["storage_fault"].is_string() ? doc["storage_fault"].get<std::string>() : std::string();
     latestWriteFailed_ = !latestFault.empty();
+    if (sink_) sink_->published({doc, true, alarm_.latched()});
     return result;
 }
 

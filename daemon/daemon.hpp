@@ -20,6 +20,7 @@
 #include "daemon/http_token.hpp"
 #include "daemon/measurement_chain.hpp"
 #include "daemon/notifier.hpp"
+#include "daemon/scada/publication.hpp"
 #include "daemon/state_dir.hpp"
 #include "drivers/gpio/scada_outputs.hpp"
 
@@ -68,6 +69,8 @@ public:
     void requestAlarmReset();
     void requestReload();
     void setReadyStatus(std::string status);
+    // The SCADA interfaces, told of every document written to latest.json. Set before run().
+    void setPublicationSink(scada::PublicationSink* sink) { sink_ = sink; }
 
     // Views for the HTTP API.
     std::optional<nlohmann::json> latest() const;  // with "stale"; nullopt before the first result
@@ -131,6 +134,7 @@ private:
     std::string storageFault_;   // empty: the last writes of latest.json and the history succeeded
     bool latestWriteFailed_ = false;
     std::chrono::steady_clock::time_point lastWatchdog_{};
+    scada::PublicationSink* sink_ = nullptr;  // called on the loop thread, with mutex_ held
 };
 
 }  // namespace icewatch::daemon

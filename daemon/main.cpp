@@ -19,6 +19,7 @@
 #include "daemon/daemon.hpp"
 #include "daemon/http_api.hpp"
 #include "daemon/http_token.hpp"
+#include "daemon/scada/scada_interfaces.hpp"
 #include "daemon/sha256.hpp"
 #include "daemon/wiring.hpp"
 #include "drivers/log/log.hpp"
@@ -116,7 +117,11 @@ int serve(const std::string& configFile, const std::string& stateDir, bool once,
                               once ? nullptr : gpio::openScadaOutputs(config.gpio)};
     daemon::SystemClock clock;
     daemon::SystemdNotifier notifier;
-    daemon::Daemon service(config, options, clock, std::move(parts), once ? nullptr : &notifier);
+    // With Modbus on, the loop's watchdog pings also drive the heartbeat register.
+    daemon::scada::LoopHeartbeat heartbeat(notifier);
+    daemon::Notifier* loopNotifier = config.scada.modbus.listen.empty() ? static_cast<daemon::Notifier*>(&notifier)
+                                                                        : &heartbeat;
+    daemon::Daemon service(config, options, clock, std::move(parts), once ? nullptr : loopNotifier);
     SignalThread signals(service);
     if (once) {
         const auto result = service.runOnce();
@@ -126,12 +131,21 @@ int serve(const std::string& configFile, const std::string& stateDir, bool once,
         std::cout << service.latest()->dump(2) << "\n";
         return exitStatusOf(result->status);
     }
+    // SCADA interfaces belong to the running service, as the GPIO lines do (none with --once).
+    // They start first: a Modbus port in use ends the start before the HTTP server runs.
+    std::unique_ptr<daemon::scada::ScadaInterfaces> scada;
+    if (!config.scada.modbus.listen.empty() || !config.scada.mqtt.broker.empty()) {
+        scada = std::make_unique<daemon::scada::ScadaInterfaces>(config.scada, service, &heartbeat);
+        service.setPublicationSink(scada.get());
+    }
+    std::string ready = "measuring every " + std::to_string(config.daemon.intervalS) + " s";
     std::unique_ptr<daemon::HttpApi> http;
     if (config.http.enabled) {
         http = std::make_unique<daemon::HttpApi>(service, config.http);
-        service.setReadyStatus("measuring every " + std::to_string(config.daemon.intervalS) + " s, http " +
-                               config.http.address + ":" + std::to_string(http->port()));
+        ready += ", http " + config.http.address + ":" + std::to_string(http->port());
     }
+    if (scada) ready += ", " + scada->summary();
+    service.setReadyStatus(ready);
     service.run();
     log::get("daemon")->info("stopped");
     return kExitOk;

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/config/json_text.hpp"
+#include "core/config/scada_section.hpp"
 #include "core/config/section.hpp"
 #include "core/stereo/matcher.hpp"
 
@@ -265,6 +266,7 @@ Config parseConfig(std::string_view text, const std::string& fileName) {
     readGpio(top.child("gpio"), config.gpio);
     readHttp(top.child("http"), config.http);
     readHistory(top.child("history"), config.history);
+    readScada(top.child("scada"), config.scada);
     top.finish();
     return config;
 }

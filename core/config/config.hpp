@@ -6,6 +6,7 @@
 #include <string>
 #include <string_view>
 
+#include "core/config/scada_config.hpp"
 #include "core/volume/parameters.hpp"
 #include "core/stereo/parameters.hpp"
 
@@ -110,6 +111,7 @@ struct Config {
     GpioConfig gpio;
     HttpConfig http;
     HistoryConfig history;
+    ScadaConfig scada;  // core/config/scada_config.hpp
 };
 
 // Parses and validates a whole configuration; fileName is only used in messages. JSON with //
