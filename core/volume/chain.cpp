@@ -67,12 +67,6 @@ cv::Mat toFloatGrey(const cv::Mat& image) {
     return out;
 }
 
-// What the matcher reads: its integer stages work on whole grey levels.
-cv::Mat matcherInput(const cv::Mat& grey) {
-    cv::Mat rounded;
-    grey.convertTo(rounded, CV_8U);
-    return rounded;
-}
 
 // [X Y Z W]ᵀ = Q·[x y d 1]ᵀ for every valid disparity; NaN elsewhere.
 cv::Mat reproject(const cv::Mat& disparity, const cv::Mat& q) {
@@ -239,7 +233,9 @@ Surface VolumeChain::measureSurface(const StereoPair& raw) {
     s.rightGrey = toFloatGrey(rectified.right);
     s.leftGrey.convertTo(s.rectifiedLeft, CV_8U);
     timer.lap("rectify");
-    s.disparity = impl_->matcher.compute(matcherInput(s.leftGrey), matcherInput(s.rightGrey), impl_->parameters.maxDisparity);
+    // The float average goes to the matcher as it is: its integer stages round it, its sub-pixel
+    // refinement reads the fraction the averaging gained.
+    s.disparity = impl_->matcher.compute(s.leftGrey, s.rightGrey, impl_->parameters.maxDisparity);
     timer.lap("match");
     s.points = reproject(s.disparity, impl_->calibration.Q);
     timer.lap("reproject");
