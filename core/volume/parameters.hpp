@@ -26,8 +26,8 @@ struct Parameters {
     double segmentationBandMm = 150;  // segmentation: depth band around the dominant depth
 
     // --- registration (current capture onto the baseline, from unchanged texture) ---
-    int trackRadiusPx = 12;           // texture patches are (2r+1)² pixels
-    int trackStepPx = 12;             // one texture sample every this many pixels
+    int trackRadiusPx = 8;            // texture patches are (2r+1)² pixels
+    int trackStepPx = 6;              // one texture sample every this many pixels
     int trackSearchPx = 8;            // how far a patch may move between the captures beyond the global shift
     int minEvidenceSamples = 12;      // unchanged texture samples a motion may rest on
     double backgroundBandMm = 400;    // background within this depth of the object may hold it (a table, a rig)

@@ -225,6 +225,10 @@ std::string faultyCameraConfig(const std::filesystem::path& dir, const std::stri
     config["camera"]["reconnect_max_ms"] = 50;
     config["daemon"]["interval_s"] = 3600;
     config["daemon"]["camera_check_s"] = 1;
+    // Short bursts, so that the faults below fall into the cycles they are meant for.
+    config["daemon"]["burst_frames"] = 3;
+    config["daemon"]["baseline_frames"] = 3;
+    config["daemon"]["min_frames"] = 2;
     config["daemon"]["state_dir"] = (dir / "state").string();
     config["gpio"]["chip"] = "fake:" + (dir / "gpio.log").string();
     config["http"] = {{"port", 0}, {"token_file", (dir / "http-token").string()}};
