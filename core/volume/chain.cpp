@@ -298,7 +298,11 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     trackOptions.patch.radiusPx = p.trackRadiusPx;
     trackOptions.stepPx = p.trackStepPx;
     trackOptions.temporalSearchPx = p.trackSearchPx;
-    const cv::Point2d prior = globalImageShift(baseline.leftGrey, current.leftGrey, baseline.roi);
+    // The trackers start from the scene's global shift; a phase correlation can lock onto the
+    // wrong peak (bright ice that appeared, a repeated texture), so a shift larger than any motion
+    // the registration accepts is not believed and the search starts where the object was.
+    cv::Point2d prior = globalImageShift(baseline.leftGrey, current.leftGrey, baseline.roi);
+    if (cv::norm(prior) > p.maxRegistrationMm * impl_->focalPx / depthMm) prior = {0, 0};
     const std::vector<TextureTrack> tracks =
         trackTexture(before, after, baseline.roi, cv::Matx44d(impl_->calibration.Q), prior, trackOptions);
     timer.lap("track");
@@ -506,9 +510,11 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
         for (double g : gradients) edgeIntegral += std::max(0.0, g - floor) * grid.areaPerNodeMm2();
     }
     result.budget.edgeMm3 = p.edgeUncertaintyPx * pixelMm * edgeIntegral;
+    result.budget.scaleMm3 = 0.01 * p.scaleUncertaintyPercent * std::abs(result.volumeMm3);
     const UncertaintyBudget& b = result.budget;
-    result.uncertaintyMm3 = p.coverageFactor * std::sqrt(b.noiseMm3 * b.noiseMm3 + b.registrationMm3 * b.registrationMm3 +
-                                                         b.biasMm3 * b.biasMm3 + b.edgeMm3 * b.edgeMm3);
+    result.uncertaintyMm3 =
+        p.coverageFactor * std::sqrt(b.noiseMm3 * b.noiseMm3 + b.registrationMm3 * b.registrationMm3 +
+                                     b.biasMm3 * b.biasMm3 + b.edgeMm3 * b.edgeMm3 + b.scaleMm3 * b.scaleMm3);
     timer.lap("uncertainty");
 
     // --- debug output for people ---

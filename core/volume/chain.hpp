@@ -37,6 +37,7 @@ struct UncertaintyBudget {
     double registrationMm3 = 0;   // the registration's own uncertainty, propagated
     double biasMm3 = 0;           // systematic sub-pixel disparity bias
     double edgeMm3 = 0;           // where the ice's edges are
+    double scaleMm3 = 0;          // the depth scale and the matcher's response on ice, relative to the volume
 };
 
 struct VolumeResult {

@@ -61,6 +61,10 @@ struct Parameters {
     int correlationPx = 5;          // disparities are correlated over about this many pixels (matcher window)
     double subpixelBiasPx = 0.004;  // systematic sub-pixel disparity bias left after differencing
     double edgeUncertaintyPx = 0.5; // where an edge of the ice is, ± this
+    // A share of the volume itself (1 σ): the depth scale (the calibration's focal length and
+    // baseline) and the matcher's response on ice, whose aggregation rounds a layer off; on
+    // rendered blades a thin glaze over the whole blade read up to 9 % short.
+    double scaleUncertaintyPercent = 4.0;
     double coverageFactor = 2.0;    // expanded uncertainty = k·σ (k = 2: about 95 %)
 
     // --- quality gate ---

@@ -120,7 +120,8 @@ void addVolumeCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunctio
                 out["uncertainty_budget_mm3"] = {{"noise", r.budget.noiseMm3},
                                                  {"registration", r.budget.registrationMm3},
                                                  {"bias", r.budget.biasMm3},
-                                                 {"edge", r.budget.edgeMm3}};
+                                                 {"edge", r.budget.edgeMm3},
+                                                 {"scale", r.budget.scaleMm3}};
                 out["mean_thickness_mm"] = r.meanThicknessMm;
                 out["max_thickness_mm"] = r.maxThicknessMm;
                 out["area_mm2"] = r.areaMm2;

@@ -119,6 +119,7 @@ TEST(Config, ShippedFileDocumentsTheDefaults) {
     EXPECT_EQ(v.maxRegistrationMm, d.maxRegistrationMm);
     EXPECT_EQ(v.minSupportSpanPercent, d.minSupportSpanPercent);
     EXPECT_EQ(v.iceMaskGrowPx, d.iceMaskGrowPx);
+    EXPECT_EQ(v.scaleUncertaintyPercent, d.scaleUncertaintyPercent);
     EXPECT_EQ(v.knnK, d.knnK);
     EXPECT_EQ(v.knnTheta, d.knnTheta);
     EXPECT_EQ(v.gridCellMm, d.gridCellMm);
