@@ -67,7 +67,6 @@ cv::Mat toFloatGrey(const cv::Mat& image) {
     return out;
 }
 
-
 // [X Y Z W]ᵀ = Q·[x y d 1]ᵀ for every valid disparity; NaN elsewhere.
 cv::Mat reproject(const cv::Mat& disparity, const cv::Mat& q) {
     const cv::Matx44d Q(q);
@@ -230,12 +229,16 @@ Surface VolumeChain::measureSurface(const StereoPair& raw) {
     StageTimer timer(impl_->clock, s.timingsMs);
     const StereoPair rectified = impl_->rectifier.rectify(raw);
     s.leftGrey = toFloatGrey(rectified.left);
-    s.rightGrey = toFloatGrey(rectified.right);
+    const cv::Mat rightGrey = toFloatGrey(rectified.right);
     s.leftGrey.convertTo(s.rectifiedLeft, CV_8U);
+    // Prepared here, once per surface: the daemon keeps the baseline's and estimates against it
+    // every cycle.
+    s.trackLeft = prepareForTracking(s.leftGrey);
+    s.trackRight = prepareForTracking(rightGrey);
     timer.lap("rectify");
     // The float average goes to the matcher as it is: its integer stages round it, its sub-pixel
     // refinement reads the fraction the averaging gained.
-    s.disparity = impl_->matcher.compute(s.leftGrey, s.rightGrey, impl_->parameters.maxDisparity);
+    s.disparity = impl_->matcher.compute(s.leftGrey, rightGrey, impl_->parameters.maxDisparity);
     timer.lap("match");
     s.points = reproject(s.disparity, impl_->calibration.Q);
     timer.lap("reproject");
@@ -290,10 +293,8 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     timer.lap("plane");
 
     // --- how the object moved: from the texture the ice did not change, in both eyes ---
-    const RectifiedCapture before{prepareForTracking(baseline.leftGrey), prepareForTracking(baseline.rightGrey),
-                                  baseline.disparity};
-    const RectifiedCapture after{prepareForTracking(current.leftGrey), prepareForTracking(current.rightGrey),
-                                 current.disparity};
+    const RectifiedCapture before{baseline.trackLeft, baseline.trackRight, baseline.disparity};
+    const RectifiedCapture after{current.trackLeft, current.trackRight, current.disparity};
     TextureTrackOptions trackOptions;
     trackOptions.patch.radiusPx = p.trackRadiusPx;
     trackOptions.stepPx = p.trackStepPx;

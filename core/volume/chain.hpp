@@ -23,7 +23,8 @@ using Timings = std::vector<std::pair<std::string, double>>;
 // One capture measured: everything estimate() needs, so the daemon can keep the baseline's.
 struct Surface {
     cv::Mat rectifiedLeft;  // CV_8U grey, rectified left eye (for people and the image checks)
-    cv::Mat leftGrey, rightGrey;  // CV_32F grey, rectified, as measured (an averaged capture keeps its fraction)
+    cv::Mat leftGrey;       // CV_32F grey, rectified, as measured (an averaged capture keeps its fraction)
+    cv::Mat trackLeft, trackRight;  // both eyes as the texture trackers read them (prepareForTracking)
     cv::Mat disparity;      // CV_32F, px, stereo::kInvalidDisparity where none
     cv::Mat points;         // CV_32FC3, mm, left rectified camera frame, NaN where none
     cv::Mat roi;            // CV_8U, 255 inside the object's outline (rectified left pixels)

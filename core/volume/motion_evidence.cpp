@@ -28,23 +28,35 @@ Evidence gather(const std::vector<TextureTrack>& tracks, bool onObject, const Pl
     return e;
 }
 
-double shareAgreeing(const Evidence& e, const RigidMotion& motion, RigidMotionOptions o) {
-    if (e.pairs.empty()) return 0.0;
-    o.covarianceScale = motion.covarianceScale;
+// The fit's options as a fitted motion judges its pairs: with the covariance scale it found.
+RigidMotionOptions judgedBy(const RigidMotionOptions& fit, const RigidMotion& motion) {
+    RigidMotionOptions judged = fit;
+    judged.covarianceScale = motion.covarianceScale;
+    return judged;
+}
+
+int countAgreeing(const Evidence& e, const RigidMotion& motion, const RigidMotionOptions& fit) {
+    const RigidMotionOptions o = judgedBy(fit, motion);
     int agreeing = 0;
     for (const PointPair& p : e.pairs) agreeing += pairAgrees(p, motion.transform, o) ? 1 : 0;
-    return static_cast<double>(agreeing) / static_cast<double>(e.pairs.size());
+    return agreeing;
+}
+
+double shareAgreeing(const Evidence& e, const RigidMotion& motion, const RigidMotionOptions& fit) {
+    if (e.pairs.empty()) return 0.0;
+    return static_cast<double>(countAgreeing(e, motion, fit)) / static_cast<double>(e.pairs.size());
 }
 
 // Share of the pairs that, moved by `motion`, differ from the baseline only by a rise along the
 // plane's normal (their in-plane difference within 3 σ, the rise above 3 σ).
-double shareRisingOnly(const Evidence& e, const RigidMotion& motion, const PlaneFrame& plane, double modelNoiseMm) {
+double shareRisingOnly(const Evidence& e, const RigidMotion& motion, const PlaneFrame& plane,
+                       const RigidMotionOptions& fit) {
     if (e.pairs.empty()) return 0.0;
+    const RigidMotionOptions o = judgedBy(fit, motion);
     int rising = 0;
     for (const PointPair& p : e.pairs) {
         const cv::Vec3d r = motion.transform.apply(p.current) - p.baseline;
-        const cv::Matx33d c =
-            (p.covarianceMm2 + cv::Matx33d::eye() * (modelNoiseMm * modelNoiseMm)) * motion.covarianceScale;
+        const cv::Matx33d c = pairCovariance(p, o);
         auto sigmaAlong = [&c](const cv::Vec3d& axis) { return std::sqrt((axis.t() * c * axis)(0)); };
         const bool inPlane = std::abs(r.dot(plane.axisU)) < 3 * sigmaAlong(plane.axisU) &&
                              std::abs(r.dot(plane.axisV)) < 3 * sigmaAlong(plane.axisV);
@@ -120,8 +132,7 @@ MotionEstimate estimateMotion(const std::vector<TextureTrack>& tracks, const Pla
     const RigidMotion onBackground = fitRigidMotion(background.pairs, o.fit, o.minPairs);
 
     auto cleanUnder = [&](const RigidMotion& motion) {
-        RigidMotionOptions judged = fit;
-        judged.covarianceScale = motion.covarianceScale;
+        const RigidMotionOptions judged = judgedBy(fit, motion);
         std::vector<std::uint8_t> clean(tracks.size(), 0);
         for (std::size_t k = 0; k < object.pairs.size(); ++k) {
             clean[object.track[k]] = pairAgrees(object.pairs[k], motion.transform, judged) ? 1 : 0;
@@ -145,7 +156,7 @@ MotionEstimate estimateMotion(const std::vector<TextureTrack>& tracks, const Pla
             used = join(object, background);
             chosen = fitRigidMotion(used.pairs, fit, o.minPairs);
             out.source = "object+background";
-        } else if (shareRisingOnly(object, onBackground, plane, o.fit.modelNoiseMm) >= o.agreeShare) {
+        } else if (shareRisingOnly(object, onBackground, plane, o.fit) >= o.agreeShare) {
             chosen = onBackground;
             used = background;
             usedFit = o.fit;
@@ -182,13 +193,7 @@ MotionEstimate estimateMotion(const std::vector<TextureTrack>& tracks, const Pla
     out.chi2PerDof = chosen.chi2PerDof;
     out.clean = cleanUnder(chosen);
     for (std::uint8_t c : out.clean) out.objectEvidence += c;
-    if (out.source != "object") {
-        RigidMotionOptions judged = fit;
-        judged.covarianceScale = chosen.covarianceScale;
-        for (const PointPair& p : background.pairs) {
-            out.backgroundEvidence += pairAgrees(p, chosen.transform, judged) ? 1 : 0;
-        }
-    }
+    if (out.source != "object") out.backgroundEvidence = countAgreeing(background, chosen, fit);
     out.supportSpanPercent = objectSpan(tracks, out.clean, plane);
     out.jackknife = jackknife(used, chosen.transform, plane, usedFit, o.jackknifeGroups, o.minPairs);
     return out;

@@ -14,11 +14,6 @@ namespace icewatch::volume {
 
 namespace {
 
-// The displacement is measured in the camera frame; rotating the current point rotates its error
-// too, but the motions here are fractions of a degree: the covariance is used as it is.
-cv::Matx33d pairCovariance(const PointPair& pair, const RigidMotionOptions& o) {
-    return (pair.covarianceMm2 + cv::Matx33d::eye() * (o.modelNoiseMm * o.modelNoiseMm)) * o.covarianceScale;
-}
 
 
 cv::Matx33d skew(const cv::Vec3d& v) { return {0, -v[2], v[1], v[2], 0, -v[0], -v[1], v[0], 0}; }
@@ -43,6 +38,12 @@ RigidTransform fitRigid(const std::vector<cv::Vec3d>& from, const std::vector<cv
         t.translation[r] = m(r, 3);
     }
     return t;
+}
+
+// The displacement is measured in the camera frame; rotating the current point rotates its error
+// too, but the motions here are fractions of a degree: the covariance is used as it is.
+cv::Matx33d pairCovariance(const PointPair& pair, const RigidMotionOptions& o) {
+    return (pair.covarianceMm2 + cv::Matx33d::eye() * (o.modelNoiseMm * o.modelNoiseMm)) * o.covarianceScale;
 }
 
 double pairChi2(const PointPair& pair, const RigidTransform& transform, const RigidMotionOptions& o) {
@@ -93,9 +94,8 @@ RigidMotion fitRigidMotion(const std::vector<PointPair>& pairs, const RigidMotio
         }
     }
     if (bestCount < std::max(3, minPairs)) return best;
-    // How honest the pairs' covariances are: the median χ² of the better half of all pairs under
-    // the consensus (the worse half may be ice or mismatches) against that of a χ²₃'s 25th
-    // percentile (1.213).
+    // How honest the pairs' covariances are: the lower quartile of every pair's χ² under the
+    // consensus (the upper part may be ice or mismatches) against that of a χ²₃ (1.213).
     {
         std::vector<double> d2;
         for (const PointPair& p : pairs) d2.push_back(pairChi2(p, bestTransform, o));

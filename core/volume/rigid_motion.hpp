@@ -54,12 +54,16 @@ RigidTransform fitRigid(const std::vector<cv::Vec3d>& from, const std::vector<cv
 // Robust rigid fit of current onto baseline points, each pair weighted by its own covariance
 // (depth is far less certain than the position across the view): RANSAC on three pairs for the
 // consensus, then Gauss-Newton on the Mahalanobis distances of the inliers, re-selected at every
-// step. The pairs' covariances are first scaled so that the consensus' median χ² is that of a χ²
-// with 3 degrees of freedom (never below 1: they are not made more optimistic); the fit's
+// step. The pairs' covariances are first scaled so that the lower quartile of every pair's χ² under
+// the consensus is that of a χ² with 3 degrees of freedom (1.213; the upper part may be ice or
+// mismatches), never by less than 1: they are not made more optimistic. The fit's
 // covariance is then scaled by the inliers' χ² per degree of freedom when that exceeds 1 and by
 // the correlation factor. Not ok with fewer than `minPairs` inliers.
 RigidMotion fitRigidMotion(const std::vector<PointPair>& pairs, const RigidMotionOptions& options = {},
                            int minPairs = 6);
+
+// A pair's covariance as the fit weighs it: its own, the model noise, times covarianceScale.
+cv::Matx33d pairCovariance(const PointPair& pair, const RigidMotionOptions& options);
 
 // Squared Mahalanobis distance of one pair under a transform.
 double pairChi2(const PointPair& pair, const RigidTransform& transform, const RigidMotionOptions& options);
