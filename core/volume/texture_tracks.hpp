@@ -10,7 +10,7 @@ namespace icewatch::volume {
 
 // Both captures of one scene, rectified, as the tracker reads them.
 struct RectifiedCapture {
-    cv::Mat left, right;  // CV_32FC1 grey, 0..255 (the float average of the capture's frames)
+    cv::Mat left, right;  // CV_32FC1 grey, 0..255, smoothed by prepareForTracking (patch_tracker.hpp)
     cv::Mat disparity;    // CV_32F left-view disparities from the matcher, < 0 where none
 };
 
