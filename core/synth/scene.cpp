@@ -177,6 +177,7 @@ SyntheticScene renderScene(const SceneSpec& spec) {
     scene.motion.translationMm = {uniform(-maxShiftMm, maxShiftMm), uniform(-maxShiftMm, maxShiftMm),
                                   uniform(-maxShiftMm, maxShiftMm)};
     if (spec.motion == MotionKind::None) scene.motion = {};
+    scene.motion.pivotMm = before.translation;
     const Pose after{rotationFromDegrees(scene.motion.rotationDeg) * before.rotation,
                      before.translation + scene.motion.translationMm};
 

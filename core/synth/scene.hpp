@@ -71,9 +71,12 @@ struct SceneSpec {
 
 // The object's small rigid movement between the two captures (a parked blade is never exactly
 // where it was), about the object's own origin, in the left camera frame.
+// The object's motion between the captures: p_after = R·(p_before − pivot) + pivot + translation,
+// R the rotation vector rotationDeg (degrees), in the left camera's frame, mm.
 struct RigidMotion {
     cv::Vec3d rotationDeg;
     cv::Vec3d translationMm;
+    cv::Vec3d pivotMm;  // the object frame's origin in the baseline capture
 };
 
 struct SyntheticScene {

@@ -52,6 +52,7 @@ nlohmann::json truthJson(const SyntheticScene& scene, const SceneSpec& spec) {
             {"light_change", spec.lightChange},
             {"motion_rotation_deg", vec3(scene.motion.rotationDeg)},
             {"motion_translation_mm", vec3(scene.motion.translationMm)},
+            {"motion_pivot_mm", vec3(scene.motion.pivotMm)},
             {"look",
              {{"towards_light", vec3(look.towardsLight)},
               {"ambient", look.ambient},

@@ -3,16 +3,19 @@
 //
 // The ice is about 0.1 px of disparity at 1280 px per eye, so the chain differences surfaces in a
 // common frame rather than trusting absolute depth: both captures are measured with the same
-// calibration and matcher, the current one is registered onto the baseline on the parts that did
-// not change (robust point-to-plane ICP, then again without the places that look iced), and the
-// thickness is the difference of the two surfaces along the normal of the baseline's mean plane.
-// Volume is invariant to that choice of direction as long as both surfaces are height fields over
-// it, which a nearly fronto-parallel view of a blade or a plate guarantees.
+// calibration and matcher, the current one is moved onto the baseline by the motion of the
+// texture the ice did not change (tracked in both eyes, without the matcher), and the thickness is
+// the difference of the two surfaces along the normal of the baseline's mean plane, where the ice
+// may be. Volume is invariant to that choice of direction as long as both surfaces are height
+// fields over it, which a nearly fronto-parallel view of a blade or a plate guarantees.
 //
-// Stages, as the seed paper's section 2.2 with registration and an error budget added:
+// Stages, as the seed paper's section 2.2 with registration and an error budget added, one file
+// each:
 //   measureSurface: split → rectify → match → reproject (Q) → region → image quality
-//   estimate:       gate → plane frame → register → k-NN filter → grid (linear interpolation)
-//                   → integrate (trapz | sum) → uncertainty → gate
+//   estimate:       gate → plane frame → texture tracks (texture_tracks) → motion (motion_evidence)
+//                   → ice mask (ice_mask) → both clouds on the plane, k-NN filter (plane_clouds)
+//                   → grid, thickness (thickness_map) → integrate (trapz | sum) → uncertainty
+//                   (uncertainty) → gate
 #include "core/volume/chain.hpp"
 
 #include <algorithm>
@@ -25,12 +28,14 @@
 #include "core/common/error.hpp"
 #include "core/stereo/matcher.hpp"
 #include "core/volume/height_grid.hpp"
-#include "core/volume/outlier_filter.hpp"
-#include "core/volume/registration.hpp"
-#include "core/volume/roi.hpp"
 #include "core/volume/ice_mask.hpp"
 #include "core/volume/motion_evidence.hpp"
+#include "core/volume/plane_clouds.hpp"
+#include "core/volume/registration.hpp"
+#include "core/volume/roi.hpp"
 #include "core/volume/texture_tracks.hpp"
+#include "core/volume/thickness_map.hpp"
+#include "core/volume/uncertainty.hpp"
 
 namespace icewatch::volume {
 
@@ -88,27 +93,6 @@ cv::Mat reproject(const cv::Mat& disparity, const cv::Mat& q) {
 
 bool validPoint(const cv::Vec3f& p) { return !std::isnan(p[2]); }
 
-// Box average of the finite values of a CV_64F map, window (2r+1)²; NaN where none.
-cv::Mat localMean(const cv::Mat& values, int radius) {
-    cv::Mat finite = values.clone(), weight(values.size(), CV_64F);
-    for (int y = 0; y < values.rows; ++y)
-        for (int x = 0; x < values.cols; ++x) {
-            const bool ok = !std::isnan(values.at<double>(y, x));
-            weight.at<double>(y, x) = ok ? 1.0 : 0.0;
-            if (!ok) finite.at<double>(y, x) = 0.0;
-        }
-    const cv::Size window(2 * radius + 1, 2 * radius + 1);
-    cv::boxFilter(finite, finite, CV_64F, window, {-1, -1}, false);
-    cv::boxFilter(weight, weight, CV_64F, window, {-1, -1}, false);
-    cv::Mat mean(values.size(), CV_64F);
-    for (int y = 0; y < values.rows; ++y)
-        for (int x = 0; x < values.cols; ++x) {
-            const double w = weight.at<double>(y, x);
-            mean.at<double>(y, x) = w > 0 ? finite.at<double>(y, x) / w : kNaN;
-        }
-    return mean;
-}
-
 cv::Mat falseColour(const cv::Mat& values, double lo, double hi) {
     cv::Mat scaled(values.size(), CV_8U), invalid(values.size(), CV_8U);
     for (int y = 0; y < values.rows; ++y)
@@ -122,31 +106,6 @@ cv::Mat falseColour(const cv::Mat& values, double lo, double hi) {
     cv::applyColorMap(scaled, colour, cv::COLORMAP_JET);
     colour.setTo(cv::Scalar::all(0), invalid);
     return colour;
-}
-
-// The baseline's outline as the object stands in the current capture: every outline pixel is
-// put on the baseline's plane, moved back by the registration and projected; then eroded by the
-// edge margin, where depths mix.
-cv::Mat outlineInCurrent(const cv::Mat& roi, const PlaneFrame& plane, const RigidTransform& toBaseline,
-                         const cv::Matx34d& projection, int edgeMarginPx) {
-    const cv::Matx33d k = projection.get_minor<3, 3>(0, 0);
-    const cv::Matx33d kInv = k.inv();
-    const cv::Matx33d back = toBaseline.rotation.t();
-    std::vector<std::vector<cv::Point>> contours;
-    cv::findContours(roi.clone(), contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
-    for (auto& contour : contours)
-        for (cv::Point& px : contour) {
-            const cv::Vec3d ray = kInv * cv::Vec3d(px.x, px.y, 1.0);
-            const cv::Vec3d onPlane = (plane.normal.dot(plane.origin) / plane.normal.dot(ray)) * ray;
-            const cv::Vec3d moved = k * (back * (onPlane - toBaseline.translation));
-            px = {static_cast<int>(std::lround(moved[0] / moved[2])), static_cast<int>(std::lround(moved[1] / moved[2]))};
-        }
-    cv::Mat mask = cv::Mat::zeros(roi.size(), CV_8U);
-    cv::fillPoly(mask, contours, cv::Scalar(255));
-    if (edgeMarginPx > 0) {
-        cv::erode(mask, mask, cv::getStructuringElement(cv::MORPH_ELLIPSE, {2 * edgeMarginPx + 1, 2 * edgeMarginPx + 1}));
-    }
-    return mask;
 }
 
 VolumeResult refused(VolumeResult result, const std::string& reason) {
@@ -334,107 +293,20 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     }
     const cv::Mat possibleIce = iceMask(baseline.roi, tracks, motion.clean, p.trackStepPx, p.iceMaskGrowPx);
     result.iceMaskPercent = 100.0 * cv::countNonZero(possibleIce) / std::max(1, cv::countNonZero(baseline.roi));
-    const cv::Mat currentOutline = outlineInCurrent(baseline.roi, plane, transform, impl_->projection, p.edgeMarginPx);
 
-    // --- both clouds in plane coordinates; implausible current points out; k-NN filter ---
-    // Current points this far behind the baseline's lowest point are background, not the object.
-    const double behindMm = 10.0;
-    double hMin = std::numeric_limits<double>::infinity(), hMax = -hMin;
-    cv::Mat baselinePlane(baseline.points.size(), CV_64FC3, cv::Scalar::all(kNaN));
-    std::vector<cv::Point3d> baselineList;
-    std::vector<cv::Point> baselineAt;
-    for (int y = 0; y < measured.rows; ++y)
-        for (int x = 0; x < measured.cols; ++x) {
-            if (!measured.at<std::uint8_t>(y, x)) continue;
-            const cv::Vec3f q = baseline.points.at<cv::Vec3f>(y, x);
-            const cv::Point3d local = plane.toPlane(cv::Vec3d(q[0], q[1], q[2]));
-            hMin = std::min(hMin, local.z);
-            hMax = std::max(hMax, local.z);
-            baselineList.push_back(local);
-            baselineAt.emplace_back(x, y);
-        }
-    std::vector<cv::Point3d> currentList;
-    std::vector<cv::Point> currentAt;
-    for (int y = 0; y < current.points.rows; ++y)
-        for (int x = 0; x < current.points.cols; ++x) {
-            const cv::Vec3f q = current.points.at<cv::Vec3f>(y, x);
-            if (!currentOutline.at<std::uint8_t>(y, x) || !validPoint(q)) continue;
-            const cv::Point3d local = plane.toPlane(transform.apply(cv::Vec3d(q[0], q[1], q[2])));
-            if (local.z < hMin - behindMm || local.z > hMax + p.maxThicknessMm) continue;  // background, sky
-            currentList.push_back(local);
-            currentAt.emplace_back(x, y);
-        }
-    const auto keepBaseline = knnKeepMask(baselineList, p.knnK, p.knnTheta);
-    const auto keepCurrent = knnKeepMask(currentList, p.knnK, p.knnTheta);
-    cv::Mat currentPlane(current.points.size(), CV_64FC3, cv::Scalar::all(kNaN));
-    for (std::size_t i = 0; i < baselineList.size(); ++i)
-        if (keepBaseline[i]) baselinePlane.at<cv::Vec3d>(baselineAt[i]) = cv::Vec3d(baselineList[i]);
-    for (std::size_t i = 0; i < currentList.size(); ++i)
-        if (keepCurrent[i]) {
-            currentPlane.at<cv::Vec3d>(currentAt[i]) = cv::Vec3d(currentList[i]);
-            ++result.pointsUsed;
-        }
+    // --- both clouds on the baseline's plane, strays out ---
+    const cv::Mat currentOutline = outlineInCurrent(baseline.roi, plane, transform, impl_->projection, p.edgeMarginPx);
+    const PlaneClouds clouds = planeClouds(baseline.points, measured, current.points, currentOutline, plane, transform, p);
+    result.pointsUsed = clouds.currentPoints;
     timer.lap("filter");
     if (result.pointsUsed < p.minPoints) {
         return refused(result, "too few current points in the region: " + std::to_string(result.pointsUsed));
     }
 
-    // --- grid over the region on the plane; linear interpolation of both surfaces ---
-    std::vector<std::vector<cv::Point>> contours;
-    cv::findContours(baseline.roi.clone(), contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
-    const cv::Matx33d k = impl_->projection.get_minor<3, 3>(0, 0);
-    const cv::Matx33d kInv = k.inv();
-    double uMin = 1e18, uMax = -1e18, vMin = 1e18, vMax = -1e18;
-    for (const auto& contour : contours)
-        for (const cv::Point& px : contour) {
-            const cv::Vec3d ray = kInv * cv::Vec3d(px.x, px.y, 1.0);
-            const double t = plane.normal.dot(plane.origin) / plane.normal.dot(ray);  // ray meets plane
-            const cv::Point3d local = plane.toPlane(t * ray);
-            uMin = std::min(uMin, local.x);
-            uMax = std::max(uMax, local.x);
-            vMin = std::min(vMin, local.y);
-            vMax = std::max(vMax, local.y);
-        }
-    const GridSpec grid = makeGrid(uMin, uMax, vMin, vMax, p.gridCellMm);
-    const StepOptions steps{p.occlusionSlope, p.occlusionStepMm};
-    cv::Mat baselineHeight = interpolateLattice(baselinePlane, grid, steps);
-    const cv::Mat currentHeight = interpolateLattice(currentPlane, grid, steps);
-    // Which nodes lie inside the outline: project each node, at the baseline's height, into the
-    // left image (the plane alone would misplace nodes by the blade's camber).
-    cv::Mat everywhere(grid.nv, grid.nu, CV_8U, cv::Scalar(255));
-    cv::Mat baselineFilled = baselineHeight.clone();
-    fillFromNearest(baselineFilled, everywhere);
-    cv::Mat inside(grid.nv, grid.nu, CV_8U, cv::Scalar(0)), onIce(grid.nv, grid.nu, CV_8U, cv::Scalar(0));
-    for (int j = 0; j < grid.nv; ++j)
-        for (int i = 0; i < grid.nu; ++i) {
-            const double h = baselineFilled.at<double>(j, i);
-            const cv::Vec3d node = plane.toCamera(grid.u0 + i * grid.du, grid.v0 + j * grid.dv, std::isnan(h) ? 0.0 : h);
-            const cv::Vec3d image = k * node;
-            const int x = static_cast<int>(std::lround(image[0] / image[2]));
-            const int y = static_cast<int>(std::lround(image[1] / image[2]));
-            if (x >= 0 && y >= 0 && x < baseline.roi.cols && y < baseline.roi.rows && baseline.roi.at<std::uint8_t>(y, x)) {
-                inside.at<std::uint8_t>(j, i) = 255;
-                if (possibleIce.at<std::uint8_t>(y, x)) onIce.at<std::uint8_t>(j, i) = 255;
-            }
-        }
-    // Thickness is measured where the ice may be; the surface that unchanged texture vouched for
-    // is clean (0), so neither its noise nor the registration's error there is integrated.
-    cv::Mat thickness(grid.nv, grid.nu, CV_64F, cv::Scalar(kNaN));
-    int insideCount = 0, iceCount = 0;
-    for (int j = 0; j < grid.nv; ++j)
-        for (int i = 0; i < grid.nu; ++i) {
-            if (!inside.at<std::uint8_t>(j, i)) continue;
-            ++insideCount;
-            if (!onIce.at<std::uint8_t>(j, i)) {
-                thickness.at<double>(j, i) = 0.0;
-                continue;
-            }
-            ++iceCount;
-            thickness.at<double>(j, i) = currentHeight.at<double>(j, i) - baselineHeight.at<double>(j, i);
-        }
-    if (insideCount == 0) return refused(result, "the region covers no part of the measured surface");
-    const int filled = fillFromNearest(thickness, onIce);
-    result.filledPercent = 100.0 * filled / std::max(1, iceCount);
+    // --- thickness on the plane's grid, where the ice may be ---
+    const ThicknessMap map = thicknessMap(clouds, baseline.roi, possibleIce, plane, impl_->projection.get_minor<3, 3>(0, 0), p);
+    if (map.insideNodes == 0) return refused(result, "the region covers no part of the measured surface");
+    result.filledPercent = 100.0 * map.filledNodes / std::max(1, map.iceNodes);
     timer.lap("grid");
     if (result.filledPercent > p.maxFilledPercent) {
         std::ostringstream reason;
@@ -444,78 +316,17 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     }
 
     // --- integrate ---
-    result.volumeMm3 = integrate(thickness, grid, p.integration);
-    result.areaMm2 = insideCount * grid.areaPerNodeMm2();
-    result.iceAreaMm2 = iceCount * grid.areaPerNodeMm2();
-    result.meanThicknessMm = result.volumeMm3 / result.areaMm2;
-    const cv::Mat smoothThickness = localMean(thickness, 2);
-    double maxT = 0;
-    for (int j = 0; j < grid.nv; ++j)
-        for (int i = 0; i < grid.nu; ++i)
-            if (inside.at<std::uint8_t>(j, i) && !std::isnan(smoothThickness.at<double>(j, i))) {
-                maxT = std::max(maxT, smoothThickness.at<double>(j, i));
-            }
-    result.maxThicknessMm = maxT;
+    const IceSummary ice = summarise(map, p.integration);
+    result.volumeMm3 = ice.volumeMm3;
+    result.areaMm2 = ice.areaMm2;
+    result.iceAreaMm2 = ice.iceAreaMm2;
+    result.meanThicknessMm = ice.meanThicknessMm;
+    result.maxThicknessMm = ice.maxThicknessMm;
     timer.lap("integrate");
 
     // --- uncertainty ---
-    const double depthPerPxMm = depthMm * depthMm / (impl_->focalPx * impl_->baselineMm);  // ΔZ of 1 px
-    const double pixelMm = depthMm / impl_->focalPx;
-    const double pointSigmaMm = std::sqrt(2.0) * depthPerPxMm * p.disparityNoisePx;
-    // Independent samples on the ice: the pixels there, the matcher's errors correlated over its window.
-    const double icePixels = result.iceAreaMm2 / (pixelMm * pixelMm);
-    const double independent = std::max(1.0, icePixels / double(p.correlationPx * p.correlationPx));
-    result.budget.noiseMm3 = result.iceAreaMm2 * pointSigmaMm / std::sqrt(independent);
-    // The registration's covariance, carried through the thickness on the ice.
-    cv::Vec6d gradient(0, 0, 0, 0, 0, 0);
-    for (int j = 0; j < grid.nv; ++j)
-        for (int i = 0; i < grid.nu; ++i) {
-            if (!onIce.at<std::uint8_t>(j, i)) continue;
-            const double h = baselineFilled.at<double>(j, i);
-            const cv::Vec3d node = plane.toCamera(grid.u0 + i * grid.du, grid.v0 + j * grid.dv, std::isnan(h) ? 0.0 : h);
-            const cv::Vec3d c = node.cross(plane.normal);
-            const cv::Vec6d g(c[0], c[1], c[2], plane.normal[0], plane.normal[1], plane.normal[2]);
-            gradient += g * grid.areaPerNodeMm2();
-        }
-    // The larger of the covariance's word and the jackknife's: a motion leaning on one end of the
-    // object, or on evidence that is not quite rigid, shows in how it moves when a band of the
-    // evidence is left out, not in its covariance.
-    double jackknifeVariance = 0;
-    for (const cv::Vec6d& delta : motion.jackknife) {
-        const double dv = gradient.dot(delta);
-        jackknifeVariance += dv * dv;
-    }
-    if (!motion.jackknife.empty()) {
-        const double groups = static_cast<double>(motion.jackknife.size());
-        jackknifeVariance *= (groups - 1.0) / groups;
-    }
-    result.budget.registrationMm3 = std::max(propagate(gradient, motion.covariance), std::sqrt(jackknifeVariance));
-    result.budget.biasMm3 = p.subpixelBiasPx * depthPerPxMm * result.iceAreaMm2;
-    // Edges: a shift of σ_e of every edge of height H and length L moves σ_e·H·L, i.e. σ_e·∫|∇t|.
-    // The noise floor of |∇t| (its median) is taken off so that noise does not pass for edges.
-    const cv::Mat smoothed = localMean(thickness, 3);
-    std::vector<double> gradients;
-    for (int j = 1; j + 1 < grid.nv; ++j)
-        for (int i = 1; i + 1 < grid.nu; ++i) {
-            if (!inside.at<std::uint8_t>(j, i)) continue;
-            const double gx = (smoothed.at<double>(j, i + 1) - smoothed.at<double>(j, i - 1)) / (2 * grid.du);
-            const double gy = (smoothed.at<double>(j + 1, i) - smoothed.at<double>(j - 1, i)) / (2 * grid.dv);
-            const double g = std::hypot(gx, gy);
-            if (!std::isnan(g)) gradients.push_back(g);
-        }
-    double edgeIntegral = 0;
-    if (!gradients.empty()) {
-        std::vector<double> sorted = gradients;
-        std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
-        const double floor = sorted[sorted.size() / 2];
-        for (double g : gradients) edgeIntegral += std::max(0.0, g - floor) * grid.areaPerNodeMm2();
-    }
-    result.budget.edgeMm3 = p.edgeUncertaintyPx * pixelMm * edgeIntegral;
-    result.budget.scaleMm3 = 0.01 * p.scaleUncertaintyPercent * std::abs(result.volumeMm3);
-    const UncertaintyBudget& b = result.budget;
-    result.uncertaintyMm3 =
-        p.coverageFactor * std::sqrt(b.noiseMm3 * b.noiseMm3 + b.registrationMm3 * b.registrationMm3 +
-                                     b.biasMm3 * b.biasMm3 + b.edgeMm3 * b.edgeMm3 + b.scaleMm3 * b.scaleMm3);
+    result.budget = volumeUncertainty(map, plane, motion, {impl_->focalPx, impl_->baselineMm, depthMm}, p, result.volumeMm3);
+    result.uncertaintyMm3 = expandedUncertainty(result.budget, p.coverageFactor);
     timer.lap("uncertainty");
 
     // --- debug output for people ---
@@ -529,18 +340,19 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
             }
         }
     result.disparityColour = falseColour(current.disparity, dMin, std::max(dMax, dMin + 1));
-    cv::Mat shownThickness = smoothThickness.clone();
-    shownThickness.setTo(kNaN, inside == 0);
-    result.thicknessColour = falseColour(shownThickness, 0.0, std::max(1.0, maxT));
-    for (int y = 0; y < currentPlane.rows; ++y)
-        for (int x = 0; x < currentPlane.cols; ++x) {
-            const cv::Vec3d local = currentPlane.at<cv::Vec3d>(y, x);
+    cv::Mat shownThickness = finiteBoxMean(map.thickness, 2);
+    shownThickness.setTo(kNaN, map.inside == 0);
+    result.thicknessColour = falseColour(shownThickness, 0.0, std::max(1.0, result.maxThicknessMm));
+    const GridSpec& grid = map.grid;
+    for (int y = 0; y < clouds.current.rows; ++y)
+        for (int x = 0; x < clouds.current.cols; ++x) {
+            const cv::Vec3d local = clouds.current.at<cv::Vec3d>(y, x);
             if (std::isnan(local[2])) continue;
             const int i = static_cast<int>(std::lround((local[0] - grid.u0) / grid.du));
             const int j = static_cast<int>(std::lround((local[1] - grid.v0) / grid.dv));
             const bool onGrid = i >= 0 && j >= 0 && i < grid.nu && j < grid.nv;
             result.cloudMm.push_back(cv::Vec3f(plane.toCamera(local[0], local[1], local[2])));
-            result.cloudThicknessMm.push_back(onGrid ? static_cast<float>(thickness.at<double>(j, i)) : 0.0f);
+            result.cloudThicknessMm.push_back(onGrid ? static_cast<float>(map.thickness.at<double>(j, i)) : 0.0f);
         }
     result.ok = true;
     timer.lap("gate");

@@ -14,6 +14,7 @@
 #include "core/stereo/parameters.hpp"
 #include "core/volume/image_quality.hpp"
 #include "core/volume/parameters.hpp"
+#include "core/volume/uncertainty.hpp"
 
 namespace icewatch::volume {
 
@@ -33,21 +34,13 @@ struct Surface {
     Timings timingsMs;
 };
 
-struct UncertaintyBudget {
-    double noiseMm3 = 0;          // per-point depth noise over the independent samples
-    double registrationMm3 = 0;   // the registration's own uncertainty, propagated
-    double biasMm3 = 0;           // systematic sub-pixel disparity bias
-    double edgeMm3 = 0;           // where the ice's edges are
-    double scaleMm3 = 0;          // the depth scale and the matcher's response on ice, relative to the volume
-};
-
 struct VolumeResult {
     bool ok = false;
     std::string reason;  // why it was refused
     double volumeMm3 = 0;
     double uncertaintyMm3 = 0;  // expanded (coverageFactor · σ)
     UncertaintyBudget budget;   // 1-σ parts
-    double meanThicknessMm = 0;  // volume / area of the region
+    double meanThicknessMm = 0;  // volume / area of the region (what the alarms compare)
     double maxThicknessMm = 0;   // of the locally averaged thickness map
     double areaMm2 = 0;          // of the region on the object's plane
     int pointsUsed = 0;          // current points that built the surface
@@ -62,7 +55,7 @@ struct VolumeResult {
     int unchangedSamples = 0;    // texture samples found again unchanged (object and background)
     int changedSamples = 0;      // object samples found again with a changed look (ice)
     double supportSpanPercent = 0;  // extent of the unchanged surface the registration rests on
-    double iceAreaMm2 = 0;       // where thickness was measured: possible ice, grown by the matcher's reach
+    double iceAreaMm2 = 0;       // where thickness was integrated: possible ice, grown by the matcher's reach
     double iceMaskPercent = 0;   // of the region
     Timings timingsMs;
 

@@ -203,4 +203,25 @@ double integrate(const cv::Mat& values, const GridSpec& grid, Integration method
     return volume;
 }
 
+cv::Mat finiteBoxMean(const cv::Mat& values, int radius) {
+    CV_Assert(values.type() == CV_64FC1);
+    cv::Mat finite = values.clone(), weight(values.size(), CV_64F);
+    for (int y = 0; y < values.rows; ++y)
+        for (int x = 0; x < values.cols; ++x) {
+            const bool ok = !std::isnan(values.at<double>(y, x));
+            weight.at<double>(y, x) = ok ? 1.0 : 0.0;
+            if (!ok) finite.at<double>(y, x) = 0.0;
+        }
+    const cv::Size window(2 * radius + 1, 2 * radius + 1);
+    cv::boxFilter(finite, finite, CV_64F, window, {-1, -1}, false);
+    cv::boxFilter(weight, weight, CV_64F, window, {-1, -1}, false);
+    cv::Mat mean(values.size(), CV_64F);
+    for (int y = 0; y < values.rows; ++y)
+        for (int x = 0; x < values.cols; ++x) {
+            const double w = weight.at<double>(y, x);
+            mean.at<double>(y, x) = w > 0 ? finite.at<double>(y, x) / w : std::numeric_limits<double>::quiet_NaN();
+        }
+    return mean;
+}
+
 }  // namespace icewatch::volume

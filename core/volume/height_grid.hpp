@@ -60,6 +60,9 @@ cv::Mat interpolateLattice(const cv::Mat& planePoints, const GridSpec& grid, con
 // many nodes were filled.
 int fillFromNearest(cv::Mat& values, const cv::Mat& inside);
 
+// Box average of the finite values of a CV_64F map over (2r+1)² nodes; NaN where there are none.
+cv::Mat finiteBoxMean(const cv::Mat& values, int radius);
+
 // ∫∫ values over the grid, NaN nodes counting as zero. Trapz: trapezoidal rule over u, then v.
 // Sum: Σ values·Δu·Δv.
 double integrate(const cv::Mat& values, const GridSpec& grid, Integration method);

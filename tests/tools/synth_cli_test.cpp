@@ -97,6 +97,9 @@ TEST(SynthCli, TruthRecordsEveryOption) {
     EXPECT_EQ(t["mode"], "640x240");
     EXPECT_NEAR(t["ice_volume_mm3"].get<double>(), 97609.0, 1e-6 * 97609.0);
     EXPECT_EQ(t["motion_translation_mm"], nlohmann::json({0.0, 0.0, 0.0}));
+    // The pivot of the (here null) motion is where the object stands, about a metre away.
+    ASSERT_EQ(t["motion_pivot_mm"].size(), 3u);
+    EXPECT_GT(t["motion_pivot_mm"][2].get<double>(), 500.0);
     EXPECT_TRUE(t["look"]["composite_contrast"].is_number());
     for (const char* name : {"before.png", "after.png", "truth_disparity_before.pfm", "truth_disparity_after.pfm",
                              "truth_ice_mm.pfm"}) {

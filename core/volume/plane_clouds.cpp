@@ -1,0 +1,87 @@
+// Both captures' points on the baseline's plane (plane_clouds.hpp).
+#include "core/volume/plane_clouds.hpp"
+
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include <opencv2/imgproc.hpp>
+
+#include "core/volume/outlier_filter.hpp"
+
+namespace icewatch::volume {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+// Current points this far behind the baseline's lowest point are background, not the object.
+constexpr double kBehindMm = 10.0;
+
+}  // namespace
+
+PlaneClouds planeClouds(const cv::Mat& baselinePoints, const cv::Mat& measured, const cv::Mat& currentPoints,
+                        const cv::Mat& currentOutline, const PlaneFrame& plane, const RigidTransform& toBaseline,
+                        const Parameters& p) {
+    CV_Assert(baselinePoints.type() == CV_32FC3 && currentPoints.type() == CV_32FC3 &&
+              baselinePoints.size() == currentPoints.size() && measured.size() == baselinePoints.size() &&
+              currentOutline.size() == currentPoints.size());
+    double hMin = std::numeric_limits<double>::infinity(), hMax = -hMin;
+    std::vector<cv::Point3d> baselineList, currentList;
+    std::vector<cv::Point> baselineAt, currentAt;
+    for (int y = 0; y < measured.rows; ++y)
+        for (int x = 0; x < measured.cols; ++x) {
+            const cv::Vec3f q = baselinePoints.at<cv::Vec3f>(y, x);
+            if (!measured.at<std::uint8_t>(y, x) || std::isnan(q[2])) continue;
+            const cv::Point3d local = plane.toPlane(cv::Vec3d(q[0], q[1], q[2]));
+            hMin = std::min(hMin, local.z);
+            hMax = std::max(hMax, local.z);
+            baselineList.push_back(local);
+            baselineAt.emplace_back(x, y);
+        }
+    for (int y = 0; y < currentPoints.rows; ++y)
+        for (int x = 0; x < currentPoints.cols; ++x) {
+            const cv::Vec3f q = currentPoints.at<cv::Vec3f>(y, x);
+            if (!currentOutline.at<std::uint8_t>(y, x) || std::isnan(q[2])) continue;
+            const cv::Point3d local = plane.toPlane(toBaseline.apply(cv::Vec3d(q[0], q[1], q[2])));
+            if (local.z < hMin - kBehindMm || local.z > hMax + p.maxThicknessMm) continue;
+            currentList.push_back(local);
+            currentAt.emplace_back(x, y);
+        }
+    PlaneClouds clouds;
+    clouds.baseline = cv::Mat(baselinePoints.size(), CV_64FC3, cv::Scalar::all(kNaN));
+    clouds.current = cv::Mat(currentPoints.size(), CV_64FC3, cv::Scalar::all(kNaN));
+    const auto keepBaseline = knnKeepMask(baselineList, p.knnK, p.knnTheta);
+    const auto keepCurrent = knnKeepMask(currentList, p.knnK, p.knnTheta);
+    for (std::size_t i = 0; i < baselineList.size(); ++i)
+        if (keepBaseline[i]) clouds.baseline.at<cv::Vec3d>(baselineAt[i]) = cv::Vec3d(baselineList[i]);
+    for (std::size_t i = 0; i < currentList.size(); ++i)
+        if (keepCurrent[i]) {
+            clouds.current.at<cv::Vec3d>(currentAt[i]) = cv::Vec3d(currentList[i]);
+            ++clouds.currentPoints;
+        }
+    return clouds;
+}
+
+cv::Mat outlineInCurrent(const cv::Mat& roi, const PlaneFrame& plane, const RigidTransform& toBaseline,
+                         const cv::Matx34d& projection, int edgeMarginPx) {
+    const cv::Matx33d k = projection.get_minor<3, 3>(0, 0);
+    const cv::Matx33d kInv = k.inv();
+    const cv::Matx33d back = toBaseline.rotation.t();
+    std::vector<std::vector<cv::Point>> contours;
+    cv::findContours(roi.clone(), contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
+    for (auto& contour : contours)
+        for (cv::Point& px : contour) {
+            const cv::Vec3d ray = kInv * cv::Vec3d(px.x, px.y, 1.0);
+            const cv::Vec3d onPlane = (plane.normal.dot(plane.origin) / plane.normal.dot(ray)) * ray;
+            const cv::Vec3d moved = k * (back * (onPlane - toBaseline.translation));
+            px = {static_cast<int>(std::lround(moved[0] / moved[2])), static_cast<int>(std::lround(moved[1] / moved[2]))};
+        }
+    cv::Mat mask = cv::Mat::zeros(roi.size(), CV_8U);
+    cv::fillPoly(mask, contours, cv::Scalar(255));
+    if (edgeMarginPx > 0) {
+        cv::erode(mask, mask, cv::getStructuringElement(cv::MORPH_ELLIPSE, {2 * edgeMarginPx + 1, 2 * edgeMarginPx + 1}));
+    }
+    return mask;
+}
+
+}  // namespace icewatch::volume

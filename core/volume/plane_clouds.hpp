@@ -1,0 +1,33 @@
+#pragma once
+
+#include <opencv2/core.hpp>
+
+#include "core/volume/height_grid.hpp"
+#include "core/volume/parameters.hpp"
+#include "core/volume/registration.hpp"
+
+namespace icewatch::volume {
+
+// Both captures' points in the baseline's plane frame (u, v, h per left pixel, CV_64FC3, NaN where
+// there is none), the current capture moved onto the baseline, the k-NN filter's strays removed.
+struct PlaneClouds {
+    cv::Mat baseline;
+    cv::Mat current;
+    int currentPoints = 0;
+};
+
+// `measured`: the baseline pixels that count (the region, eroded by the edge margin, with a
+// point); `currentOutline`: the region as the object stands in the current capture. A current
+// point far behind the baseline's lowest point is background, one above its highest point by more
+// than max_thickness_mm is sky or a stray: neither is the object.
+PlaneClouds planeClouds(const cv::Mat& baselinePoints, const cv::Mat& measured, const cv::Mat& currentPoints,
+                        const cv::Mat& currentOutline, const PlaneFrame& plane, const RigidTransform& toBaseline,
+                        const Parameters& parameters);
+
+// The baseline's outline as the object stands in the current capture: every outline pixel is put
+// on the baseline's plane, moved back by the registration and projected; then eroded by the edge
+// margin, where depths mix.
+cv::Mat outlineInCurrent(const cv::Mat& roi, const PlaneFrame& plane, const RigidTransform& toBaseline,
+                         const cv::Matx34d& projection, int edgeMarginPx);
+
+}  // namespace icewatch::volume

@@ -1,0 +1,90 @@
+// Ice thickness on the plane's grid (thickness_map.hpp).
+#include "core/volume/thickness_map.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include <opencv2/imgproc.hpp>
+
+namespace icewatch::volume {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// The grid over the region's outline, each outline pixel's ray met with the plane.
+GridSpec regionGrid(const cv::Mat& roi, const PlaneFrame& plane, const cv::Matx33d& k, double cellMm) {
+    std::vector<std::vector<cv::Point>> contours;
+    cv::findContours(roi.clone(), contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
+    const cv::Matx33d kInv = k.inv();
+    double uMin = 1e18, uMax = -1e18, vMin = 1e18, vMax = -1e18;
+    for (const auto& contour : contours)
+        for (const cv::Point& px : contour) {
+            const cv::Vec3d ray = kInv * cv::Vec3d(px.x, px.y, 1.0);
+            const double t = plane.normal.dot(plane.origin) / plane.normal.dot(ray);
+            const cv::Point3d local = plane.toPlane(t * ray);
+            uMin = std::min(uMin, local.x);
+            uMax = std::max(uMax, local.x);
+            vMin = std::min(vMin, local.y);
+            vMax = std::max(vMax, local.y);
+        }
+    return makeGrid(uMin, uMax, vMin, vMax, cellMm);
+}
+
+}  // namespace
+
+ThicknessMap thicknessMap(const PlaneClouds& clouds, const cv::Mat& roi, const cv::Mat& possibleIce,
+                          const PlaneFrame& plane, const cv::Matx33d& k, const Parameters& p) {
+    CV_Assert(roi.type() == CV_8UC1 && possibleIce.size() == roi.size());
+    ThicknessMap map;
+    map.grid = regionGrid(roi, plane, k, p.gridCellMm);
+    const GridSpec& grid = map.grid;
+    const StepOptions steps{p.occlusionSlope, p.occlusionStepMm};
+    const cv::Mat baselineHeight = interpolateLattice(clouds.baseline, grid, steps);
+    const cv::Mat currentHeight = interpolateLattice(clouds.current, grid, steps);
+    map.baselineHeight = baselineHeight.clone();
+    fillFromNearest(map.baselineHeight, cv::Mat(grid.nv, grid.nu, CV_8U, cv::Scalar(255)));
+
+    map.inside = cv::Mat(grid.nv, grid.nu, CV_8U, cv::Scalar(0));
+    map.onIce = cv::Mat(grid.nv, grid.nu, CV_8U, cv::Scalar(0));
+    map.thickness = cv::Mat(grid.nv, grid.nu, CV_64F, cv::Scalar(kNaN));
+    for (int j = 0; j < grid.nv; ++j)
+        for (int i = 0; i < grid.nu; ++i) {
+            const double h = map.baselineHeight.at<double>(j, i);
+            const cv::Vec3d image = k * plane.toCamera(grid.u0 + i * grid.du, grid.v0 + j * grid.dv, std::isnan(h) ? 0.0 : h);
+            const int x = static_cast<int>(std::lround(image[0] / image[2]));
+            const int y = static_cast<int>(std::lround(image[1] / image[2]));
+            if (x < 0 || y < 0 || x >= roi.cols || y >= roi.rows || !roi.at<std::uint8_t>(y, x)) continue;
+            map.inside.at<std::uint8_t>(j, i) = 255;
+            ++map.insideNodes;
+            if (!possibleIce.at<std::uint8_t>(y, x)) {
+                map.thickness.at<double>(j, i) = 0.0;
+                continue;
+            }
+            map.onIce.at<std::uint8_t>(j, i) = 255;
+            ++map.iceNodes;
+            map.thickness.at<double>(j, i) = currentHeight.at<double>(j, i) - baselineHeight.at<double>(j, i);
+        }
+    map.filledNodes = fillFromNearest(map.thickness, map.onIce);
+    return map;
+}
+
+IceSummary summarise(const ThicknessMap& map, Integration method) {
+    IceSummary s;
+    const double node = map.grid.areaPerNodeMm2();
+    s.volumeMm3 = integrate(map.thickness, map.grid, method);
+    s.areaMm2 = map.insideNodes * node;
+    s.iceAreaMm2 = map.iceNodes * node;
+    s.meanThicknessMm = s.areaMm2 > 0 ? s.volumeMm3 / s.areaMm2 : 0.0;
+    const cv::Mat smooth = finiteBoxMean(map.thickness, 2);
+    for (int j = 0; j < smooth.rows; ++j)
+        for (int i = 0; i < smooth.cols; ++i) {
+            const double t = smooth.at<double>(j, i);
+            if (map.inside.at<std::uint8_t>(j, i) && !std::isnan(t)) s.maxThicknessMm = std::max(s.maxThicknessMm, t);
+        }
+    return s;
+}
+
+}  // namespace icewatch::volume

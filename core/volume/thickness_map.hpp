@@ -1,0 +1,42 @@
+#pragma once
+
+#include <opencv2/core.hpp>
+
+#include "core/volume/height_grid.hpp"
+#include "core/volume/parameters.hpp"
+#include "core/volume/plane_clouds.hpp"
+
+namespace icewatch::volume {
+
+// The ice thickness on a regular grid over the region, on the baseline's plane.
+struct ThicknessMap {
+    GridSpec grid;
+    cv::Mat thickness;       // CV_64F mm: current minus baseline where ice may be, 0 elsewhere inside, NaN outside
+    cv::Mat baselineHeight;  // CV_64F mm, filled from the nearest node everywhere (the nodes' place on the object)
+    cv::Mat inside;          // CV_8U per node: within the region's outline
+    cv::Mat onIce;           // CV_8U per node: within the ice mask
+    int insideNodes = 0, iceNodes = 0;
+    int filledNodes = 0;     // ice nodes without a measurement, filled from the nearest
+};
+
+// Grids the region (its outline put on the plane through the rays of its pixels), interpolates
+// both clouds linearly onto it (height_grid.hpp) and differences them where `possibleIce` (per
+// left baseline pixel) says ice may be; the surface that unchanged texture vouched for is clean,
+// 0, so neither its noise nor the registration's error there is integrated. A node is placed in
+// the image at the baseline's height above the plane (the plane alone would misplace nodes by the
+// blade's camber). `k`: the rectified left camera matrix.
+ThicknessMap thicknessMap(const PlaneClouds& clouds, const cv::Mat& roi, const cv::Mat& possibleIce,
+                          const PlaneFrame& plane, const cv::Matx33d& k, const Parameters& parameters);
+
+// The thickness map summed up for the report.
+struct IceSummary {
+    double volumeMm3 = 0;
+    double areaMm2 = 0;          // of the region on the plane
+    double iceAreaMm2 = 0;       // of the ice mask on the plane
+    double meanThicknessMm = 0;  // volume over the region's area: what the alarms compare, steady
+                                 // however far the ice mask reaches
+    double maxThicknessMm = 0;   // of the thickness averaged over 5 × 5 nodes (one node is noise)
+};
+IceSummary summarise(const ThicknessMap& map, Integration method);
+
+}  // namespace icewatch::volume

@@ -1,0 +1,89 @@
+// The volume's error budget (uncertainty.hpp).
+#include "core/volume/uncertainty.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "core/volume/rigid_motion.hpp"
+
+namespace icewatch::volume {
+
+namespace {
+
+// d(volume) / d(motion) for a left perturbation (rotation vector, translation) of the current
+// surface: each ice node's normal displacement, times its area.
+cv::Vec6d volumeGradient(const ThicknessMap& map, const PlaneFrame& plane) {
+    const GridSpec& grid = map.grid;
+    cv::Vec6d gradient(0, 0, 0, 0, 0, 0);
+    for (int j = 0; j < grid.nv; ++j)
+        for (int i = 0; i < grid.nu; ++i) {
+            if (!map.onIce.at<std::uint8_t>(j, i)) continue;
+            const double h = map.baselineHeight.at<double>(j, i);
+            const cv::Vec3d node = plane.toCamera(grid.u0 + i * grid.du, grid.v0 + j * grid.dv, std::isnan(h) ? 0.0 : h);
+            const cv::Vec3d c = node.cross(plane.normal);
+            gradient += cv::Vec6d(c[0], c[1], c[2], plane.normal[0], plane.normal[1], plane.normal[2]) * grid.areaPerNodeMm2();
+        }
+    return gradient;
+}
+
+double registrationSigma(const cv::Vec6d& gradient, const MotionEstimate& motion) {
+    double jackknifeVariance = 0;
+    for (const cv::Vec6d& delta : motion.jackknife) {
+        const double dv = gradient.dot(delta);
+        jackknifeVariance += dv * dv;
+    }
+    if (!motion.jackknife.empty()) {
+        const double groups = static_cast<double>(motion.jackknife.size());
+        jackknifeVariance *= (groups - 1.0) / groups;
+    }
+    return std::max(propagate(gradient, motion.covariance), std::sqrt(jackknifeVariance));
+}
+
+// ∫ max(0, |∇t| - median |∇t|) over the region, on the thickness averaged over 7 × 7 nodes.
+double edgeIntegral(const ThicknessMap& map) {
+    const GridSpec& grid = map.grid;
+    const cv::Mat smoothed = finiteBoxMean(map.thickness, 3);
+    std::vector<double> gradients;
+    for (int j = 1; j + 1 < grid.nv; ++j)
+        for (int i = 1; i + 1 < grid.nu; ++i) {
+            if (!map.inside.at<std::uint8_t>(j, i)) continue;
+            const double gx = (smoothed.at<double>(j, i + 1) - smoothed.at<double>(j, i - 1)) / (2 * grid.du);
+            const double gy = (smoothed.at<double>(j + 1, i) - smoothed.at<double>(j - 1, i)) / (2 * grid.dv);
+            const double g = std::hypot(gx, gy);
+            if (!std::isnan(g)) gradients.push_back(g);
+        }
+    if (gradients.empty()) return 0.0;
+    std::vector<double> sorted = gradients;
+    std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
+    const double floor = sorted[sorted.size() / 2];
+    double integral = 0;
+    for (double g : gradients) integral += std::max(0.0, g - floor) * grid.areaPerNodeMm2();
+    return integral;
+}
+
+}  // namespace
+
+UncertaintyBudget volumeUncertainty(const ThicknessMap& map, const PlaneFrame& plane, const MotionEstimate& motion,
+                                    const ViewGeometry& view, const Parameters& p, double volumeMm3) {
+    const double iceAreaMm2 = map.iceNodes * map.grid.areaPerNodeMm2();
+    const double depthPerPxMm = view.depthMm * view.depthMm / (view.focalPx * view.baselineMm);  // ΔZ of 1 px
+    const double pixelMm = view.depthMm / view.focalPx;
+    const double pointSigmaMm = std::sqrt(2.0) * depthPerPxMm * p.disparityNoisePx;
+    const double icePixels = iceAreaMm2 / (pixelMm * pixelMm);
+    const double independent = std::max(1.0, icePixels / double(p.correlationPx * p.correlationPx));
+    UncertaintyBudget b;
+    b.noiseMm3 = iceAreaMm2 * pointSigmaMm / std::sqrt(independent);
+    b.registrationMm3 = registrationSigma(volumeGradient(map, plane), motion);
+    b.biasMm3 = p.subpixelBiasPx * depthPerPxMm * iceAreaMm2;
+    b.edgeMm3 = p.edgeUncertaintyPx * pixelMm * edgeIntegral(map);
+    b.scaleMm3 = 0.01 * p.scaleUncertaintyPercent * std::abs(volumeMm3);
+    return b;
+}
+
+double expandedUncertainty(const UncertaintyBudget& b, double coverageFactor) {
+    return coverageFactor * std::sqrt(b.noiseMm3 * b.noiseMm3 + b.registrationMm3 * b.registrationMm3 +
+                                      b.biasMm3 * b.biasMm3 + b.edgeMm3 * b.edgeMm3 + b.scaleMm3 * b.scaleMm3);
+}
+
+}  // namespace icewatch::volume

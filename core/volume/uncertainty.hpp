@@ -1,0 +1,43 @@
+#pragma once
+
+#include "core/volume/motion_evidence.hpp"
+#include "core/volume/parameters.hpp"
+#include "core/volume/thickness_map.hpp"
+
+namespace icewatch::volume {
+
+// The volume's error budget, each part 1 σ, mm³.
+struct UncertaintyBudget {
+    double noiseMm3 = 0;          // per-point depth noise over the independent samples
+    double registrationMm3 = 0;   // the registration's own uncertainty, propagated
+    double biasMm3 = 0;           // systematic sub-pixel disparity bias
+    double edgeMm3 = 0;           // where the ice's edges are
+    double scaleMm3 = 0;          // the depth scale and the matcher's response on ice, relative to the volume
+};
+
+// What the camera makes of a millimetre at the object's distance.
+struct ViewGeometry {
+    double focalPx = 0;
+    double baselineMm = 0;
+    double depthMm = 0;  // of the object's plane
+};
+
+// Each error source carried to the volume integrated over the ice nodes of `map`:
+//   noise         per-point depth noise (disparity_noise_px), averaged over the independent
+//                 samples on the ice (the matcher's errors are correlated over correlation_px);
+//   registration  the larger of the motion's covariance and its jackknife (a motion leaning on one
+//                 end of the object, or on evidence that is not quite rigid, shows in how it moves
+//                 when a band of the evidence is left out, not in its covariance), through the
+//                 thickness each node would gain from a small motion;
+//   bias          a systematic sub-pixel disparity bias (subpixel_bias_px) over the ice area;
+//   edge          a shift of σ_e of every edge of height H and length L moves σ_e·H·L, i.e.
+//                 σ_e·∫|∇t|; the noise floor of |∇t| (its median) is taken off so that noise does
+//                 not pass for edges;
+//   scale         scale_uncertainty_percent of the volume.
+UncertaintyBudget volumeUncertainty(const ThicknessMap& map, const PlaneFrame& plane, const MotionEstimate& motion,
+                                    const ViewGeometry& view, const Parameters& parameters, double volumeMm3);
+
+// coverage · √(Σ parts²).
+double expandedUncertainty(const UncertaintyBudget& budget, double coverageFactor);
+
+}  // namespace icewatch::volume
