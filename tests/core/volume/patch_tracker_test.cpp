@@ -14,7 +14,10 @@ namespace {
 // mid grey), seen shifted by `shift` pixels, times `gain`, blended towards white by `whiten`, with
 // Gaussian noise of `noise` grey levels. Each pixel averages 4x4 samples of the continuous
 // texture, as a sensor's pixel integrates light, so the shift is exact for the pixels too.
-cv::Mat texturedView(cv::Size size, cv::Point2d shift, double gain, double whiten, double noise, std::uint32_t seed) {
+// `contrast`: the texture's amplitude in grey levels; `shading`: a change of the gain across the
+// image, per 100 px in x (a surface turning against the light).
+cv::Mat texturedView(cv::Size size, cv::Point2d shift, double gain, double whiten, double noise, std::uint32_t seed,
+                     double contrast = 8.0, double shading = 0.0) {
     constexpr int kSamples = 4;
     cv::Mat image(size, CV_32F);
     std::mt19937 random(seed);
@@ -25,10 +28,11 @@ cv::Mat texturedView(cv::Size size, cv::Point2d shift, double gain, double white
             for (int j = 0; j < kSamples; ++j)
                 for (int i = 0; i < kSamples; ++i) {
                     const double u = x + (i + 0.5) / kSamples - 0.5 - shift.x, v = y + (j + 0.5) / kSamples - 0.5 - shift.y;
-                    albedo += 150.0 + 8.0 * synth::fractalNoise(u, v, 8.0, 3, 7);
+                    albedo += 150.0 + contrast * synth::fractalNoise(u, v, 8.0, 3, 7);
                 }
             albedo /= kSamples * kSamples;
-            const double seen = gain * albedo * (1.0 - whiten) + whiten * 240.0;
+            const double localGain = gain * (1.0 + shading * (x - size.width / 2.0) / 100.0);
+            const double seen = localGain * albedo * (1.0 - whiten) + whiten * 240.0;
             image.at<float>(y, x) = static_cast<float>(seen + noise * gauss(random));
         }
     return prepareForTracking(image);
@@ -67,6 +71,31 @@ TEST(PatchTracker, RecoversSubpixelShiftsWithoutBias) {
         EXPECT_GT(b.found, 100) << fraction;
         EXPECT_LT(std::abs(b.meanError), 0.01) << "fraction " << fraction;
     }
+}
+
+// Every patch of a capture shares the fraction of the object's shift, so an interpolator whose
+// error depends on that fraction biases them all alike and the bias does not average out: on the
+// weak texture, without noise, it must be far below the tracker's noise.
+TEST(PatchTracker, NoBiasAtAnyFractionOfAPixel) {
+    const cv::Size size(300, 220);
+    const cv::Mat from = texturedView(size, {0, 0}, 1.0, 0.0, 0.0, 1, 3.0);
+    for (const double fraction : {0.1, 0.25, 0.4, 0.57, 0.71, 0.9}) {
+        const cv::Point2d truth(fraction, 1.0 + 0.5 * fraction);
+        const Bias b = trackGrid(from, texturedView(size, truth, 1.0, 0.0, 0.0, 2, 3.0), truth);
+        EXPECT_GT(b.found, 50) << fraction;
+        EXPECT_LT(std::abs(b.meanError), 0.0015) << "fraction " << fraction;
+    }
+}
+
+// A surface that turns against the light changes its shading across a patch; a gain that is only
+// constant over the patch would take the ramp for a shift.
+TEST(PatchTracker, AShadingRampAcrossThePatchMovesNoShift) {
+    const cv::Size size(300, 220);
+    const cv::Mat from = texturedView(size, {0, 0}, 1.0, 0.0, 0.0, 1, 3.0);
+    const cv::Point2d truth(0.3, 0.2);
+    const Bias b = trackGrid(from, texturedView(size, truth, 1.0, 0.0, 0.0, 2, 3.0, 0.02), truth);
+    EXPECT_GT(b.found, 50);
+    EXPECT_LT(std::abs(b.meanError), 0.0015);
 }
 
 TEST(PatchTracker, ALightChangeMovesNeitherTheShiftNorTheOffset) {
