@@ -109,19 +109,27 @@ cv::Mat localMean(const cv::Mat& values, int radius) {
     return mean;
 }
 
-cv::Mat falseColour(const cv::Mat& values, double lo, double hi) {
-    cv::Mat scaled(values.size(), CV_8U), invalid(values.size(), CV_8U);
-    for (int y = 0; y < values.rows; ++y)
-        for (int x = 0; x < values.cols; ++x) {
-            const double v = values.type() == CV_32F ? values.at<float>(y, x) : values.at<double>(y, x);
-            const bool bad = std::isnan(v) || (values.type() == CV_32F && v < 0);
-            invalid.at<std::uint8_t>(y, x) = bad ? 255 : 0;
-            scaled.at<std::uint8_t>(y, x) = bad ? 0 : cv::saturate_cast<std::uint8_t>(255.0 * (v - lo) / (hi - lo));
+// For people: the thickness grid (NaN where none) where it lies in the current left image, inside
+// `outline`. Each pixel's ray, moved into the baseline's frame, meets the baseline's plane at the
+// grid node it shows (the plane alone misplaces it by the camber, less than a node at this scale).
+cv::Mat thicknessInImage(const cv::Mat& thickness, const GridSpec& grid, const PlaneFrame& plane,
+                         const RigidTransform& toBaseline, const cv::Matx33d& kInv, const cv::Mat& outline) {
+    cv::Mat image(outline.size(), CV_32F, cv::Scalar(std::numeric_limits<float>::quiet_NaN()));
+    const cv::Vec3d centre = toBaseline.translation;
+    for (int y = 0; y < outline.rows; ++y)
+        for (int x = 0; x < outline.cols; ++x) {
+            if (!outline.at<std::uint8_t>(y, x)) continue;
+            const cv::Vec3d ray = toBaseline.rotation * (kInv * cv::Vec3d(x, y, 1.0));
+            const double along = plane.normal.dot(ray);
+            if (std::abs(along) < 1e-12) continue;
+            const cv::Point3d local = plane.toPlane(centre + (plane.normal.dot(plane.origin - centre) / along) * ray);
+            const int i = static_cast<int>(std::lround((local.x - grid.u0) / grid.du));
+            const int j = static_cast<int>(std::lround((local.y - grid.v0) / grid.dv));
+            if (i >= 0 && j >= 0 && i < grid.nu && j < grid.nv) {
+                image.at<float>(y, x) = static_cast<float>(thickness.at<double>(j, i));
+            }
         }
-    cv::Mat colour;
-    cv::applyColorMap(scaled, colour, cv::COLORMAP_JET);
-    colour.setTo(cv::Scalar::all(0), invalid);
-    return colour;
+    return image;
 }
 
 // The baseline's outline as the object stands in the current capture: every outline pixel is
@@ -518,20 +526,10 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
                                      b.biasMm3 * b.biasMm3 + b.edgeMm3 * b.edgeMm3 + b.scaleMm3 * b.scaleMm3);
     timer.lap("uncertainty");
 
-    // --- debug output for people ---
-    double dMin = 1e9, dMax = -1e9;
-    for (int y = 0; y < current.disparity.rows; ++y)
-        for (int x = 0; x < current.disparity.cols; ++x) {
-            const float d = current.disparity.at<float>(y, x);
-            if (d >= 0) {
-                dMin = std::min<double>(dMin, d);
-                dMax = std::max<double>(dMax, d);
-            }
-        }
-    result.disparityColour = falseColour(current.disparity, dMin, std::max(dMax, dMin + 1));
+    // --- for people (core/pictures draws it) ---
     cv::Mat shownThickness = smoothThickness.clone();
     shownThickness.setTo(kNaN, inside == 0);
-    result.thicknessColour = falseColour(shownThickness, 0.0, std::max(1.0, maxT));
+    result.thicknessImageMm = thicknessInImage(shownThickness, grid, plane, transform, kInv, currentOutline);
     for (int y = 0; y < currentPlane.rows; ++y)
         for (int x = 0; x < currentPlane.cols; ++x) {
             const cv::Vec3d local = currentPlane.at<cv::Vec3d>(y, x);
