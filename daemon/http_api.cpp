@@ -154,7 +154,7 @@ void HttpApi::route() {
         if (const auto png = daemon_.picture(name)) {
             res.set_content(*png, "image/png");
         } else {
-            sendError(res, 404, "no " + name + " picture yet: no cycle has measured a volume");
+            sendError(res, 404, "no " + name + " picture yet: no cycle has measured");
         }
     });
 

@@ -11,9 +11,9 @@ namespace icewatch::daemon {
 
 // Pictures of one measurement for a person (GET /v1/images/latest/...): 8-bit BGR or grey.
 struct ChainPictures {
-    cv::Mat left;       // the left eye as captured
-    cv::Mat disparity;  // false-colour disparity
-    cv::Mat thickness;  // ice-thickness map
+    cv::Mat left;       // the rectified left eye, the region outlined (core/pictures)
+    cv::Mat disparity;  // false-colour disparity with its colour bar
+    cv::Mat thickness;  // ice thickness over the left eye with its colour bar; a refusal's reason on each
 };
 
 struct ChainResult {

@@ -141,6 +141,7 @@ std::optional<CycleOutcome> runMeasurementCycle(FrameSource& source, Measurement
     if (c.status == ChainResult::Status::Refused) {
         r.status = CycleStatus::Refused;
         r.reason = c.reason;
+        outcome.pictures = std::move(c.pictures);
         return outcome;
     }
     r.status = CycleStatus::Ok;

@@ -11,7 +11,7 @@
 namespace icewatch::daemon {
 
 // What one cycle produced before the alarm is applied: the result (alarm field not yet set) and
-// the pictures of the frame nearest the median, empty unless a volume was measured.
+// the pictures of the measured capture, empty unless the chain measured it (a volume or a refusal).
 struct CycleOutcome {
     CycleResult result;
     ChainPictures pictures;

@@ -4,6 +4,7 @@
 #include "daemon/volume_measurement_chain.hpp"
 
 #include "core/common/error.hpp"
+#include "core/pictures/measurement_pictures.hpp"
 #include "daemon/sha256.hpp"
 
 namespace icewatch::daemon {
@@ -22,15 +23,19 @@ ChainResult failure(ChainResult::Status status, std::string reason) {
 }  // namespace
 
 VolumeMeasurementChain::VolumeMeasurementChain(const std::filesystem::path& calibrationFile,
-                                               const volume::Parameters& parameters)
+                                               const volume::Parameters& parameters,
+                                               const pictures::PictureScale& pictures)
     : VolumeMeasurementChain(calib::loadCalibration(calibrationFile), sha256OfFile(calibrationFile).value_or(""),
-                             parameters) {}
+                             parameters, pictures) {}
 
 VolumeMeasurementChain::VolumeMeasurementChain(const calib::StereoCalibration& calibration,
-                                               std::string calibrationSha256, const volume::Parameters& parameters)
+                                               std::string calibrationSha256, const volume::Parameters& parameters,
+                                               const pictures::PictureScale& pictures)
     : calibrationSha256_(std::move(calibrationSha256)),
       minValidPercent_(parameters.minValidPercent),
       coverageFactor_(parameters.coverageFactor),
+      maxDisparity_(parameters.maxDisparity),
+      pictureScale_(pictures),
       chain_(calibration, parameters, [] { return std::chrono::steady_clock::now(); }) {}
 
 ChainResult VolumeMeasurementChain::setBaseline(const StereoPair& clean) {
@@ -65,6 +70,9 @@ ChainResult VolumeMeasurementChain::estimate(const StereoPair& current) {
     ChainResult r;
     addTimings(r.timingsMs, surface.timingsMs, "");
     addTimings(r.timingsMs, v.timingsMs, "");
+    // A refusal keeps its pictures too: that is when a person wants to look.
+    pictures::MeasurementPictures drawn = pictures::drawMeasurement(surface, v, maxDisparity_, pictureScale_);
+    r.pictures = {std::move(drawn.left), std::move(drawn.disparity), std::move(drawn.thickness)};
     if (!v.ok) {
         r.status = ChainResult::Status::Refused;
         r.reason = v.reason;
@@ -77,9 +85,6 @@ ChainResult VolumeMeasurementChain::estimate(const StereoPair& current) {
     r.meanThicknessMm = v.meanThicknessMm;
     r.maxThicknessMm = v.maxThicknessMm;
     r.validPercent = v.validPercent;
-    r.pictures.left = surface.rectifiedLeft;
-    r.pictures.disparity = v.disparityColour;
-    r.pictures.thickness = v.thicknessColour;
     return r;
 }
 

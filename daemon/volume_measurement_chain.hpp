@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <optional>
 
+#include "core/pictures/picture_scale.hpp"
 #include "core/volume/chain.hpp"
 #include "daemon/measurement_chain.hpp"
 
@@ -13,9 +14,11 @@ namespace icewatch::daemon {
 class VolumeMeasurementChain : public MeasurementChain {
 public:
     // Throws Error when the calibration file is missing or invalid, or the parameters are unusable.
-    VolumeMeasurementChain(const std::filesystem::path& calibrationFile, const volume::Parameters& parameters);
+    // `pictures`: the scale of the pictures of each measurement (ok or refused).
+    VolumeMeasurementChain(const std::filesystem::path& calibrationFile, const volume::Parameters& parameters,
+                           const pictures::PictureScale& pictures = {});
     VolumeMeasurementChain(const calib::StereoCalibration& calibration, std::string calibrationSha256,
-                           const volume::Parameters& parameters);
+                           const volume::Parameters& parameters, const pictures::PictureScale& pictures = {});
 
     std::string calibrationSha256() const override { return calibrationSha256_; }
     ChainResult setBaseline(const StereoPair& clean) override;
@@ -26,6 +29,8 @@ private:
     std::string calibrationSha256_;
     double minValidPercent_;
     double coverageFactor_;
+    int maxDisparity_;
+    pictures::PictureScale pictureScale_;
     volume::VolumeChain chain_;
     std::optional<volume::Surface> baseline_;
 };

@@ -12,7 +12,8 @@ std::unique_ptr<FrameSource> makeFrameSource(const config::Config& config) {
 }
 
 std::unique_ptr<MeasurementChain> makeMeasurementChain(const config::Config& config) {
-    return std::make_unique<VolumeMeasurementChain>(config.calibration.file, config.volume);
+    return std::make_unique<VolumeMeasurementChain>(config.calibration.file, config.volume,
+                                                    config.pictures);
 }
 
 }  // namespace icewatch::daemon

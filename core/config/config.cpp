@@ -24,13 +24,13 @@ void readLog(Section s, LogConfig& log) {
 void readCamera(Section s, CameraConfig& camera) {
     s.read("device", camera.device);
     if (camera.device.empty()) {
-        s.fail("device", "must not be empty");
+        s.reject("device", "must not be empty");
     }
     s.readChoice("format", camera.format, {"mjpeg", "yuyv"});
     s.read("width", camera.width, 2, 16384);
     s.read("height", camera.height, 1, 16384);
     if (camera.width % 2 != 0) {
-        s.fail("width", "must be even: the frame holds two equal eyes side by side");
+        s.reject("width", "must be even: the frame holds two equal eyes side by side");
     }
     s.read("fps", camera.fps, 1, 240);
     s.read("buffers", camera.buffers, 2, 32);
@@ -38,7 +38,7 @@ void readCamera(Section s, CameraConfig& camera) {
     s.read("reconnect_min_ms", camera.reconnectMinMs, 10, 600000);
     s.read("reconnect_max_ms", camera.reconnectMaxMs, 10, 3600000);
     if (camera.reconnectMaxMs < camera.reconnectMinMs) {
-        s.fail("reconnect_max_ms", "must not be below reconnect_min_ms");
+        s.reject("reconnect_max_ms", "must not be below reconnect_min_ms");
     }
     s.read("controls", camera.controls);
     s.finish();
@@ -47,7 +47,7 @@ void readCamera(Section s, CameraConfig& camera) {
 void readCalibration(Section s, CalibrationConfig& calibration) {
     s.read("file", calibration.file);
     if (calibration.file.empty()) {
-        s.fail("file", "must not be empty");
+        s.reject("file", "must not be empty");
     }
     s.finish();
 }
@@ -59,7 +59,7 @@ void readVolume(Section s, volume::Parameters& v) {
     s.read("max_disparity", v.maxDisparity, 16, 1024);
     s.read("roi_polygon", v.roiPolygon);
     if (!v.roiPolygon.empty() && (v.roiPolygon.size() % 2 != 0 || v.roiPolygon.size() < 6)) {
-        s.fail("roi_polygon", "must be x, y pairs of at least 3 points (or empty to segment)");
+        s.reject("roi_polygon", "must be x, y pairs of at least 3 points (or empty to segment)");
     }
     s.read("edge_margin_px", v.edgeMarginPx, 0, 50);
     s.read("segmentation_band_mm", v.segmentationBandMm, 1.0, 5000.0);
@@ -106,7 +106,7 @@ void readStereo(Section s, stereo::Parameters& p) {
     s.read("canny_low_threshold", p.cannyLowThreshold, 0.0, 10000.0);
     s.read("canny_high_threshold", p.cannyHighThreshold, 0.0, 10000.0);
     if (p.cannyHighThreshold < p.cannyLowThreshold) {
-        s.fail("canny_high_threshold", "must not be below canny_low_threshold");
+        s.reject("canny_high_threshold", "must not be below canny_low_threshold");
     }
     s.read("harris_threshold", p.harrisThreshold, 0.0, 1.0);
     s.read("lambda_census", p.lambdaCensus, 0.01, 1000.0);
@@ -118,19 +118,19 @@ void readStereo(Section s, stereo::Parameters& p) {
     s.read("cross_tau2", p.crossTau2, 1, 255);
     s.read("cross_l1", p.crossL1, 1, 127);
     s.read("cross_l2", p.crossL2, 1, 127);
-    if (p.crossTau2 > p.crossTau1) s.fail("cross_tau2", "must not exceed cross_tau1");
-    if (p.crossL2 > p.crossL1) s.fail("cross_l2", "must not exceed cross_l1");
+    if (p.crossTau2 > p.crossTau1) s.reject("cross_tau2", "must not exceed cross_tau1");
+    if (p.crossL2 > p.crossL1) s.reject("cross_l2", "must not exceed cross_l1");
     s.read("cross_iterations", p.crossIterations, 0, 8);
     // Π2 <= 10 keeps the 16-bit sum of 8 scanline directions from saturating.
     s.read("scanline_pi1", p.scanlinePi1, 0.0, 10.0);
     s.read("scanline_pi2", p.scanlinePi2, 0.0, 10.0);
-    if (p.scanlinePi2 < p.scanlinePi1) s.fail("scanline_pi2", "must not be below scanline_pi1");
+    if (p.scanlinePi2 < p.scanlinePi1) s.reject("scanline_pi2", "must not be below scanline_pi1");
     s.read("scanline_tau", p.scanlineTau, 0, 255);
     s.read("lr_max_difference", p.lrMaxDifference, 0, 16);
     s.read("right_view_aggregation", p.rightViewAggregation);
     s.read("right_view_scanline_directions", p.rightViewScanlineDirections, 4, 8);
     if (p.rightViewScanlineDirections != 4 && p.rightViewScanlineDirections != 8) {
-        s.fail("right_view_scanline_directions", "must be 4 or 8");
+        s.reject("right_view_scanline_directions", "must be 4 or 8");
     }
     s.read("voting_iterations", p.votingIterations, 0, 20);
     s.read("voting_min_count", p.votingMinCount, 0, 100000);
@@ -142,7 +142,7 @@ void readStereo(Section s, stereo::Parameters& p) {
     s.read("subpixel_max_change", p.subpixelMaxChange, 0.0, 2.0);
     s.read("median_filter", p.medianFilter);
     s.read("sgbm_block_size", p.sgbmBlockSize, 1, 11);
-    if (p.sgbmBlockSize % 2 == 0) s.fail("sgbm_block_size", "must be odd");
+    if (p.sgbmBlockSize % 2 == 0) s.reject("sgbm_block_size", "must be odd");
     s.read("sgbm_fill_holes", p.sgbmFillHoles);
     s.finish();
 }
@@ -161,12 +161,12 @@ void readDaemon(Section s, DaemonConfig& daemon) {
     s.read("baseline_frames", daemon.baselineFrames, 1, 256);
     s.read("min_frames", daemon.minFrames, 1, 256);
     if (daemon.minFrames > daemon.burstFrames || daemon.minFrames > daemon.baselineFrames) {
-        s.fail("min_frames", "must not exceed burst_frames or baseline_frames");
+        s.reject("min_frames", "must not exceed burst_frames or baseline_frames");
     }
     s.read("camera_check_s", daemon.cameraCheckS, 1, 3600);
     s.read("state_dir", daemon.stateDir);
     if (daemon.stateDir.empty()) {
-        s.fail("state_dir", "must not be empty");
+        s.reject("state_dir", "must not be empty");
     }
     readHealth(s.child("health"), daemon.health);
     s.finish();
@@ -179,13 +179,13 @@ void readAlarm(Section s, AlarmConfig& alarm) {
     s.read("alarm_set", alarm.alarmSet, 0.0, 1e12);
     s.read("alarm_clear", alarm.alarmClear, 0.0, 1e12);
     if (alarm.warningClear >= alarm.warningSet) {
-        s.fail("warning_clear", "must be below warning_set (hysteresis)");
+        s.reject("warning_clear", "must be below warning_set (hysteresis)");
     }
     if (alarm.alarmClear >= alarm.alarmSet) {
-        s.fail("alarm_clear", "must be below alarm_set (hysteresis)");
+        s.reject("alarm_clear", "must be below alarm_set (hysteresis)");
     }
     if (alarm.alarmSet < alarm.warningSet) {
-        s.fail("alarm_set", "must not be below warning_set");
+        s.reject("alarm_set", "must not be below warning_set");
     }
     s.read("warning_hold_s", alarm.warningHoldS, 0, 7 * 86400);
     s.read("alarm_hold_s", alarm.alarmHoldS, 0, 7 * 86400);
@@ -196,17 +196,17 @@ void readAlarm(Section s, AlarmConfig& alarm) {
 void readGpio(Section s, GpioConfig& gpio) {
     s.read("chip", gpio.chip);
     if (gpio.chip.empty() || gpio.chip == "fake:") {
-        s.fail("chip", "must name a chip, \"none\", \"fake\" or fake:FILE");
+        s.reject("chip", "must name a chip, \"none\", \"fake\" or fake:FILE");
     }
     s.read("alarm_line", gpio.alarmLine, 0, 65535);
     s.read("healthy_line", gpio.healthyLine, 0, 65535);
     if (gpio.alarmLine == gpio.healthyLine) {
-        s.fail("healthy_line", "must differ from alarm_line");
+        s.reject("healthy_line", "must differ from alarm_line");
     }
     s.read("active_low", gpio.activeLow);
     s.read("consumer", gpio.consumer);
     if (gpio.consumer.empty() || gpio.consumer.size() > 31) {
-        s.fail("consumer", "must be 1 to 31 characters (the kernel's label size)");
+        s.reject("consumer", "must be 1 to 31 characters (the kernel's label size)");
     }
     s.finish();
 }
@@ -215,19 +215,19 @@ void readHttp(Section s, HttpConfig& http) {
     s.read("enabled", http.enabled);
     s.read("address", http.address);
     if (http.address.empty()) {
-        s.fail("address", "must not be empty");
+        s.reject("address", "must not be empty");
     }
     s.read("port", http.port, 0, 65535);
     s.read("token", http.token);
     const bool tokenFileGiven = s.has("token_file");
     s.read("token_file", http.tokenFile);
     if (http.tokenFile.empty()) {
-        s.fail("token_file", "must not be empty");
+        s.reject("token_file", "must not be empty");
     }
     // Any machine on the network could otherwise read the results; the operator must have chosen
     // where the credentials of the clients come from.
     if (http.enabled && !isLoopbackAddress(http.address) && http.token.empty() && !tokenFileGiven) {
-        s.fail("address", "\"" + http.address +
+        s.reject("address", "\"" + http.address +
                               "\" is reachable from other machines: set http.token or http.token_file "
                               "(or listen on 127.0.0.1 behind a reverse proxy)");
     }
@@ -239,24 +239,35 @@ void readHistory(Section s, HistoryConfig& history) {
     s.finish();
 }
 
+void readPictures(Section s, pictures::PictureScale& scale) {
+    s.read("max_thickness_mm", scale.maxThicknessMm, 0.1, 2000.0);
+    s.finish();
+}
+
 }  // namespace
 
 bool isLoopbackAddress(const std::string& address) {
     return address == "localhost" || address == "::1" || address == "[::1]" || address.rfind("127.", 0) == 0;
 }
 
-Config parseConfig(std::string_view text, const std::string& fileName) {
+namespace {
+
+// Every problem is noted in `problems`; what could be read stands, the rest keeps its default.
+Config readConfig(std::string_view text, const std::string& fileName, std::vector<std::string>& problems) {
+    Config config;
+    config.sourceFile = fileName;
     JsonText parsed = parseJsonText(text);
     if (!parsed.error.empty()) {
-        throw ConfigError(fileName + ": " + parsed.error);
+        problems.push_back(fileName + ": " + parsed.error);
+        return config;
     }
     const nlohmann::json root = std::move(parsed.value);
     if (!root.is_object()) {
-        throw ConfigError(fileName + ": the top level must be a JSON object");
+        problems.push_back(fileName + ": the top level must be a JSON object");
+        return config;
     }
-    Config config;
-    config.sourceFile = fileName;
     Section top(root, fileName, "");
+    top.collectProblems(problems);
     readLog(top.child("log"), config.log);
     readCamera(top.child("camera"), config.camera);
     readCalibration(top.child("calibration"), config.calibration);
@@ -267,8 +278,44 @@ Config parseConfig(std::string_view text, const std::string& fileName) {
     readGpio(top.child("gpio"), config.gpio);
     readHttp(top.child("http"), config.http);
     readHistory(top.child("history"), config.history);
+    readPictures(top.child("pictures"), config.pictures);
     readScada(top.child("scada"), config.scada);
     top.finish();
+    return config;
+}
+
+std::string joined(const std::vector<std::string>& problems) {
+    std::string text;
+    for (const auto& p : problems) text += (text.empty() ? "" : "\n") + p;
+    return text;
+}
+
+// A relative path in a file means the file's own directory, wherever the program was started
+// (systemd starts in /, a person in their home): the configuration and its calibration travel together.
+void resolveAgainst(std::string& path, const std::filesystem::path& dir, std::string_view prefix = {}) {
+    if (!path.starts_with(prefix)) return;
+    const std::filesystem::path rest = path.substr(prefix.size());
+    if (rest.empty() || rest.is_absolute()) return;
+    path = std::string(prefix) + (dir / rest).lexically_normal().string();
+}
+
+void resolveRelativePaths(Config& config, const std::filesystem::path& dir) {
+    if (dir.empty()) return;
+    resolveAgainst(config.calibration.file, dir);
+    resolveAgainst(config.daemon.stateDir, dir);
+    resolveAgainst(config.http.tokenFile, dir);
+    resolveAgainst(config.camera.device, dir, "fake:");
+    if (config.gpio.chip != "fake") resolveAgainst(config.gpio.chip, dir, "fake:");
+    resolveAgainst(config.scada.mqtt.passwordFile, dir);
+    resolveAgainst(config.scada.mqtt.caFile, dir);
+}
+
+}  // namespace
+
+Config parseConfig(std::string_view text, const std::string& fileName) {
+    std::vector<std::string> problems;
+    Config config = readConfig(text, fileName, problems);
+    if (!problems.empty()) throw ConfigError(joined(problems));
     return config;
 }
 
@@ -297,17 +344,29 @@ GpioConfig loadGpioSection(const std::filesystem::path& path, std::string& probl
     }
 }
 
-Config loadConfig(const std::filesystem::path& path) {
+ConfigCheck checkConfigFile(const std::filesystem::path& path) {
+    ConfigCheck check;
+    check.config.sourceFile = path.string();
     std::ifstream in(path, std::ios::binary);
     if (!in) {
-        throw ConfigError(path.string() + ": cannot read the configuration file");
+        check.problems.push_back(path.string() + ": cannot read the configuration file");
+        return check;
     }
     std::ostringstream text;
     text << in.rdbuf();
     if (in.bad()) {
-        throw ConfigError(path.string() + ": error while reading the configuration file");
+        check.problems.push_back(path.string() + ": error while reading the configuration file");
+        return check;
     }
-    return parseConfig(text.str(), path.string());
+    check.config = readConfig(text.str(), path.string(), check.problems);
+    resolveRelativePaths(check.config, path.parent_path());
+    return check;
+}
+
+Config loadConfig(const std::filesystem::path& path) {
+    ConfigCheck check = checkConfigFile(path);
+    if (!check.problems.empty()) throw ConfigError(joined(check.problems));
+    return std::move(check.config);
 }
 
 }  // namespace icewatch::config

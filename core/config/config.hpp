@@ -5,8 +5,10 @@
 #include <map>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "core/config/scada_config.hpp"
+#include "core/pictures/picture_scale.hpp"
 #include "core/volume/parameters.hpp"
 #include "core/stereo/parameters.hpp"
 
@@ -111,16 +113,28 @@ struct Config {
     GpioConfig gpio;
     HttpConfig http;
     HistoryConfig history;
+    pictures::PictureScale pictures;  // the scale of the pictures for people
     ScadaConfig scada;  // core/config/scada_config.hpp
 };
 
 // Parses and validates a whole configuration; fileName is only used in messages. JSON with //
-// comments is accepted (the shipped file documents itself). Throws ConfigError (exit 78).
+// comments is accepted (the shipped file documents itself). Throws ConfigError (exit 78) naming
+// every problem, one per line. Paths stay as written (loadConfig resolves them).
 Config parseConfig(std::string_view text, const std::string& fileName);
 
 // Reads and parses a file. A missing or unreadable file is a ConfigError too: the daemon must not
-// start on defaults when its configuration is gone.
+// start on defaults when its configuration is gone. Relative paths in it (calibration.file,
+// daemon.state_dir, http.token_file, fake:DIR devices and GPIO files, the MQTT files) are taken
+// from the file's own directory. Every problem is in the message, one per line.
 Config loadConfig(const std::filesystem::path& path);
+
+// Everything wrong with a file, each problem naming the file and the key (none: loadConfig
+// succeeds with `config`). Never throws for the file's content.
+struct ConfigCheck {
+    Config config;  // as far as it could be read; defaults elsewhere
+    std::vector<std::string> problems;
+};
+ConfigCheck checkConfigFile(const std::filesystem::path& path);
 
 // Only the gpio section of a file, for `icewatchd --fail-safe-outputs`, which must drop the lines
 // whatever else the file gets wrong. Never throws: on any problem (said in problem) it returns

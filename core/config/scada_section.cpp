@@ -44,7 +44,7 @@ std::optional<ListenAddress> splitHostPort(std::string_view text, std::optional<
 void readModbus(Section s, ModbusConfig& modbus) {
     s.read("listen", modbus.listen);
     if (!modbus.listen.empty() && !parseListenAddress(modbus.listen)) {
-        s.fail("listen", "must be host:port (\"127.0.0.1:1502\", \"[::1]:1502\") or empty (off), got \"" +
+        s.reject("listen", "must be host:port (\"127.0.0.1:1502\", \"[::1]:1502\") or empty (off), got \"" +
                              modbus.listen + "\"");
     }
     s.read("unit_id", modbus.unitId, 1, 247);
@@ -55,20 +55,20 @@ void readModbus(Section s, ModbusConfig& modbus) {
 void readMqtt(Section s, MqttConfig& mqtt) {
     s.read("broker", mqtt.broker);
     if (!mqtt.broker.empty() && !parseBrokerUrl(mqtt.broker)) {
-        s.fail("broker", "must be mqtt://host[:port] or mqtts://host[:port] or empty (off), got \"" + mqtt.broker +
+        s.reject("broker", "must be mqtt://host[:port] or mqtts://host[:port] or empty (off), got \"" + mqtt.broker +
                              "\"");
     }
     s.read("client_id", mqtt.clientId);
     s.read("username", mqtt.username);
     s.read("password_file", mqtt.passwordFile);
     if (!mqtt.passwordFile.empty() && mqtt.username.empty()) {
-        s.fail("password_file", "needs username (MQTT sends no password without a user name)");
+        s.reject("password_file", "needs username (MQTT sends no password without a user name)");
     }
     s.read("ca_file", mqtt.caFile);
     s.read("topic_prefix", mqtt.topicPrefix);
     if (mqtt.topicPrefix.find_first_of("+#") != std::string::npos || mqtt.topicPrefix.find('\0') != std::string::npos ||
         (!mqtt.topicPrefix.empty() && mqtt.topicPrefix.back() == '/')) {
-        s.fail("topic_prefix", "must be a topic without wildcards (+, #) or a trailing /, got \"" + mqtt.topicPrefix +
+        s.reject("topic_prefix", "must be a topic without wildcards (+, #) or a trailing /, got \"" + mqtt.topicPrefix +
                                    "\"");
     }
     s.read("qos", mqtt.qos, 0, 2);

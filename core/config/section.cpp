@@ -40,6 +40,24 @@ void Section::fail(const std::string& key, const std::string& what) const {
     throw ConfigError(file_ + ": " + keyPath(key) + ": " + what);
 }
 
+void Section::reject(const std::string& key, const std::string& what) const {
+    if (problems_ == nullptr) fail(key, what);
+    problems_->push_back(file_ + ": " + keyPath(key) + ": " + what);
+}
+
+template <class Body>
+void Section::guarded(Body&& body) {
+    if (problems_ == nullptr) {
+        body();
+        return;
+    }
+    try {
+        body();
+    } catch (const ConfigError& e) {
+        problems_->push_back(e.what());
+    }
+}
+
 const nlohmann::json* Section::find(const std::string& key) {
     consumed_.insert(key);
     auto it = object_.find(key);
@@ -54,124 +72,141 @@ bool Section::has(const std::string& key) const {
 }
 
 void Section::read(const std::string& key, bool& out) {
-    const nlohmann::json* value = find(key);
-    if (value == nullptr) {
-        return;
-    }
-    if (!value->is_boolean()) {
-        fail(key, "must be true or false, got " + typeName(*value));
-    }
-    out = value->get<bool>();
+    guarded([&] {
+        const nlohmann::json* value = find(key);
+        if (value == nullptr) {
+            return;
+        }
+        if (!value->is_boolean()) {
+            fail(key, "must be true or false, got " + typeName(*value));
+        }
+        out = value->get<bool>();
+    });
 }
 
 void Section::read(const std::string& key, int& out, int min, int max) {
-    const nlohmann::json* value = find(key);
-    if (value == nullptr) {
-        return;
-    }
-    if (!value->is_number_integer()) {
-        fail(key, "must be an integer, got " + (value->is_number() ? value->dump() : typeName(*value)));
-    }
-    if (!fitsInt64(*value)) {
-        fail(key, "must be between " + std::to_string(min) + " and " + std::to_string(max) + ", got " + value->dump());
-    }
-    const auto v = value->get<std::int64_t>();
-    if (v < min || v > max) {
-        fail(key, "must be between " + std::to_string(min) + " and " + std::to_string(max) + ", got " +
-                      std::to_string(v));
-    }
-    out = static_cast<int>(v);
+    guarded([&] {
+        const nlohmann::json* value = find(key);
+        if (value == nullptr) {
+            return;
+        }
+        if (!value->is_number_integer()) {
+            fail(key, "must be an integer, got " + (value->is_number() ? value->dump() : typeName(*value)));
+        }
+        if (!fitsInt64(*value)) {
+            fail(key, "must be between " + std::to_string(min) + " and " + std::to_string(max) + ", got " + value->dump());
+        }
+        const auto v = value->get<std::int64_t>();
+        if (v < min || v > max) {
+            fail(key, "must be between " + std::to_string(min) + " and " + std::to_string(max) + ", got " +
+                          std::to_string(v));
+        }
+        out = static_cast<int>(v);
+    });
 }
 
 void Section::read(const std::string& key, double& out, double min, double max) {
-    const nlohmann::json* value = find(key);
-    if (value == nullptr) {
-        return;
-    }
-    if (!value->is_number()) {
-        fail(key, "must be a number, got " + typeName(*value));
-    }
-    const double v = value->get<double>();
-    if (!std::isfinite(v) || v < min || v > max) {
-        fail(key, "must be between " + nlohmann::json(min).dump() + " and " + nlohmann::json(max).dump() +
-                      ", got " + value->dump());
-    }
-    out = v;
+    guarded([&] {
+        const nlohmann::json* value = find(key);
+        if (value == nullptr) {
+            return;
+        }
+        if (!value->is_number()) {
+            fail(key, "must be a number, got " + typeName(*value));
+        }
+        const double v = value->get<double>();
+        if (!std::isfinite(v) || v < min || v > max) {
+            fail(key, "must be between " + nlohmann::json(min).dump() + " and " + nlohmann::json(max).dump() +
+                          ", got " + value->dump());
+        }
+        out = v;
+    });
 }
 
 void Section::read(const std::string& key, std::string& out) {
-    const nlohmann::json* value = find(key);
-    if (value == nullptr) {
-        return;
-    }
-    if (!value->is_string()) {
-        fail(key, "must be a string, got " + typeName(*value));
-    }
-    out = value->get<std::string>();
+    guarded([&] {
+        const nlohmann::json* value = find(key);
+        if (value == nullptr) {
+            return;
+        }
+        if (!value->is_string()) {
+            fail(key, "must be a string, got " + typeName(*value));
+        }
+        out = value->get<std::string>();
+    });
 }
 
 void Section::readChoice(const std::string& key, std::string& out, const std::set<std::string>& allowed) {
-    std::string value = out;
-    read(key, value);
-    if (allowed.count(value) == 0) {
-        std::string list;
-        for (const auto& a : allowed) {
-            list += (list.empty() ? "" : ", ") + a;
+    guarded([&] {
+        std::string value = out;
+        read(key, value);
+        if (allowed.count(value) == 0) {
+            std::string list;
+            for (const auto& a : allowed) {
+                list += (list.empty() ? "" : ", ") + a;
+            }
+            fail(key, "must be one of " + list + ", got \"" + value + "\"");
         }
-        fail(key, "must be one of " + list + ", got \"" + value + "\"");
-    }
-    out = value;
+        out = value;
+    });
 }
 
 void Section::read(const std::string& key, std::vector<double>& out) {
-    const nlohmann::json* value = find(key);
-    if (value == nullptr) {
-        return;
-    }
-    if (!value->is_array()) {
-        fail(key, "must be an array of numbers, got " + typeName(*value));
-    }
-    std::vector<double> result;
-    for (std::size_t i = 0; i < value->size(); ++i) {
-        const auto& element = (*value)[i];
-        if (!element.is_number() || !std::isfinite(element.get<double>())) {
-            fail(key + "[" + std::to_string(i) + "]", "must be a finite number, got " + element.dump());
+    guarded([&] {
+        const nlohmann::json* value = find(key);
+        if (value == nullptr) {
+            return;
         }
-        result.push_back(element.get<double>());
-    }
-    out = std::move(result);
+        if (!value->is_array()) {
+            fail(key, "must be an array of numbers, got " + typeName(*value));
+        }
+        std::vector<double> result;
+        for (std::size_t i = 0; i < value->size(); ++i) {
+            const auto& element = (*value)[i];
+            if (!element.is_number() || !std::isfinite(element.get<double>())) {
+                fail(key + "[" + std::to_string(i) + "]", "must be a finite number, got " + element.dump());
+            }
+            result.push_back(element.get<double>());
+        }
+        out = std::move(result);
+    });
 }
 
 void Section::read(const std::string& key, std::map<std::string, std::int64_t>& out) {
-    const nlohmann::json* value = find(key);
-    if (value == nullptr) {
-        return;
-    }
-    if (!value->is_object()) {
-        fail(key, "must be an object of name: integer, got " + typeName(*value));
-    }
-    std::map<std::string, std::int64_t> result;
-    for (auto it = value->begin(); it != value->end(); ++it) {
-        if (!it.value().is_number_integer() || !fitsInt64(it.value())) {
-            fail(key + "." + it.key(), "must be an integer, got " + it.value().dump());
+    guarded([&] {
+        const nlohmann::json* value = find(key);
+        if (value == nullptr) {
+            return;
         }
-        result[it.key()] = it.value().get<std::int64_t>();
-    }
-    out = std::move(result);
+        if (!value->is_object()) {
+            fail(key, "must be an object of name: integer, got " + typeName(*value));
+        }
+        std::map<std::string, std::int64_t> result;
+        for (auto it = value->begin(); it != value->end(); ++it) {
+            if (!it.value().is_number_integer() || !fitsInt64(it.value())) {
+                fail(key + "." + it.key(), "must be an integer, got " + it.value().dump());
+            }
+            result[it.key()] = it.value().get<std::int64_t>();
+        }
+        out = std::move(result);
+    });
 }
 
 Section Section::child(const std::string& key) {
     const nlohmann::json* value = find(key);
-    if (value == nullptr) {
-        return Section(emptyObject(), file_, keyPath(key));
+    const bool usable = value != nullptr && (value->is_object() || problems_ == nullptr);
+    if (value != nullptr && !usable && !value->is_null()) {
+        problems_->push_back(file_ + ": " + keyPath(key) + ": must be an object, got " + typeName(*value));
     }
-    return Section(*value, file_, keyPath(key));
+    Section section(usable ? *value : emptyObject(), file_, keyPath(key));
+    section.problems_ = problems_;
+    return section;
 }
 
 void Section::finish() const {
     for (auto it = object_.begin(); it != object_.end(); ++it) {
         if (consumed_.count(it.key()) == 0) {
-            throw ConfigError(file_ + ": " + keyPath(it.key()) + ": unknown key");
+            reject(it.key(), "unknown key");
         }
     }
 }

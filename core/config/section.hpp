@@ -40,21 +40,31 @@ public:
     bool has(const std::string& key) const;
     // The nested object under key; an absent key gives an empty section.
     Section child(const std::string& key);
-    // Throws ConfigError naming the first key that no reader consumed.
+    // Throws ConfigError naming the first key that no reader consumed (collecting: notes each).
     void finish() const;
 
-    // An error about key in this section.
+    // From now on, this section and its children note each problem in `problems` and go on
+    // (the key keeps its default) instead of throwing at the first: `config check` reports them all.
+    void collectProblems(std::vector<std::string>& problems) { problems_ = &problems; }
+
+    // An error about key in this section: thrown, or noted when collecting.
+    void reject(const std::string& key, const std::string& what) const;
+    // An error about key in this section, always thrown (within a reader, which notes it when collecting).
     [[noreturn]] void fail(const std::string& key, const std::string& what) const;
     std::string keyPath(const std::string& key) const;
     const std::string& file() const { return file_; }
 
 private:
     const nlohmann::json* find(const std::string& key);
+    // Runs one reader; when collecting, its ConfigError is noted and the key keeps its value.
+    template <class Body>
+    void guarded(Body&& body);
 
     const nlohmann::json& object_;
     std::string file_;
     std::string path_;
     std::set<std::string> consumed_;
+    std::vector<std::string>* problems_ = nullptr;
 };
 
 }  // namespace icewatch::config

@@ -1,6 +1,7 @@
 // Disparity files: PFM for programs, a false-colour PNG for people.
 #include "core/stereo/disparity_io.hpp"
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -8,9 +9,8 @@
 #include <limits>
 #include <sstream>
 
-#include <opencv2/imgproc.hpp>
-
 #include "core/common/error.hpp"
+#include "core/pictures/colour_scale.hpp"
 #include "core/stereo/matcher.hpp"
 
 namespace icewatch::stereo {
@@ -64,13 +64,9 @@ cv::Mat readPfm(const std::filesystem::path& path) {
 
 cv::Mat colorizeDisparity(const cv::Mat& disparity, int maxDisparity) {
     if (disparity.type() != CV_32FC1) throw InvalidInput("colour map: disparity must be 32-bit float");
-    cv::Mat scaled, valid;
-    disparity.convertTo(scaled, CV_8U, 255.0 / std::max(1, maxDisparity));
-    cv::Mat colour;
-    cv::applyColorMap(scaled, colour, cv::COLORMAP_JET);
-    cv::compare(disparity, 0.0, valid, cv::CMP_LT);
-    colour.setTo(cv::Scalar::all(0), valid);
-    return colour;
+    cv::Mat values = disparity.clone();
+    values.setTo(std::numeric_limits<float>::quiet_NaN(), disparity < 0);
+    return pictures::falseColour(values, {0.0, static_cast<double>(std::max(1, maxDisparity)), "px", "disparity"});
 }
 
 }  // namespace icewatch::stereo

@@ -13,7 +13,8 @@ namespace icewatch::stereo {
 void writePfm(const std::filesystem::path& path, const cv::Mat& disparity);
 cv::Mat readPfm(const std::filesystem::path& path);
 
-// False colour for people: near (large disparity) warm, far cold, invalid black. CV_8UC3.
+// False colour for people on the scale 0 .. maxDisparity (core/pictures' colour map): near (large
+// disparity) warm, far cold, invalid black. CV_8UC3, no colour bar.
 cv::Mat colorizeDisparity(const cv::Mat& disparity, int maxDisparity);
 
 }  // namespace icewatch::stereo

@@ -93,21 +93,6 @@ cv::Mat reproject(const cv::Mat& disparity, const cv::Mat& q) {
 
 bool validPoint(const cv::Vec3f& p) { return !std::isnan(p[2]); }
 
-cv::Mat falseColour(const cv::Mat& values, double lo, double hi) {
-    cv::Mat scaled(values.size(), CV_8U), invalid(values.size(), CV_8U);
-    for (int y = 0; y < values.rows; ++y)
-        for (int x = 0; x < values.cols; ++x) {
-            const double v = values.type() == CV_32F ? values.at<float>(y, x) : values.at<double>(y, x);
-            const bool bad = std::isnan(v) || (values.type() == CV_32F && v < 0);
-            invalid.at<std::uint8_t>(y, x) = bad ? 255 : 0;
-            scaled.at<std::uint8_t>(y, x) = bad ? 0 : cv::saturate_cast<std::uint8_t>(255.0 * (v - lo) / (hi - lo));
-        }
-    cv::Mat colour;
-    cv::applyColorMap(scaled, colour, cv::COLORMAP_JET);
-    colour.setTo(cv::Scalar::all(0), invalid);
-    return colour;
-}
-
 VolumeResult refused(VolumeResult result, const std::string& reason) {
     result.ok = false;
     result.reason = reason;
@@ -329,20 +314,11 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     result.uncertaintyMm3 = expandedUncertainty(result.budget, p.coverageFactor);
     timer.lap("uncertainty");
 
-    // --- debug output for people ---
-    double dMin = 1e9, dMax = -1e9;
-    for (int y = 0; y < current.disparity.rows; ++y)
-        for (int x = 0; x < current.disparity.cols; ++x) {
-            const float d = current.disparity.at<float>(y, x);
-            if (d >= 0) {
-                dMin = std::min<double>(dMin, d);
-                dMax = std::max<double>(dMax, d);
-            }
-        }
-    result.disparityColour = falseColour(current.disparity, dMin, std::max(dMax, dMin + 1));
+    // --- for people (core/pictures draws it) ---
     cv::Mat shownThickness = finiteBoxMean(map.thickness, 2);
     shownThickness.setTo(kNaN, map.inside == 0);
-    result.thicknessColour = falseColour(shownThickness, 0.0, std::max(1.0, result.maxThicknessMm));
+    const cv::Matx33d kInv = impl_->projection.get_minor<3, 3>(0, 0).inv();
+    result.thicknessImageMm = thicknessInImage(shownThickness, map.grid, plane, transform, kInv, currentOutline);
     const GridSpec& grid = map.grid;
     for (int y = 0; y < clouds.current.rows; ++y)
         for (int x = 0; x < clouds.current.cols; ++x) {

@@ -59,10 +59,10 @@ struct VolumeResult {
     double iceMaskPercent = 0;   // of the region
     Timings timingsMs;
 
-    // For people: false-colour disparity (current), thickness map, current cloud in the
-    // baseline's frame with its thickness.
-    cv::Mat disparityColour;
-    cv::Mat thicknessColour;
+    // For people (core/pictures draws them): the thickness where it lies in the current rectified
+    // left eye (CV_32F, mm, NaN where not measured), the current cloud in the baseline's frame
+    // with its thickness.
+    cv::Mat thicknessImageMm;
     std::vector<cv::Vec3f> cloudMm;
     std::vector<float> cloudThicknessMm;
 };

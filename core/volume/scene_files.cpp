@@ -1,5 +1,4 @@
-// Scene directories on disk, and the debug pictures a person looks at (the seed paper's
-// Figures 10-11: disparity, thickness, point cloud).
+// Scene directories on disk (the pictures a person looks at are core/pictures').
 #include "core/volume/scene_files.hpp"
 
 #include <cmath>
@@ -30,16 +29,6 @@ cv::Mat readFrame(const std::filesystem::path& path) {
         throw Error(kExitDataErr, path.string() + ": not a readable image");
     }
     return image;
-}
-
-void writeImage(const std::filesystem::path& path, const cv::Mat& image) {
-    bool ok = false;
-    try {
-        ok = !image.empty() && cv::imwrite(path.string(), image);
-    } catch (const cv::Exception&) {
-        ok = false;
-    }
-    if (!ok) throw Error(kExitCantCreate, path.string() + ": cannot write");
 }
 
 }  // namespace
@@ -79,27 +68,6 @@ SceneFiles loadSceneDirectory(const std::filesystem::path& dir, const RecordingR
         scene.roi = loadRoiPolygon(dir / "roi.json");
     }
     return scene;
-}
-
-void writeDebugOutput(const VolumeResult& result, const std::filesystem::path& dir) {
-    std::error_code ec;
-    std::filesystem::create_directories(dir, ec);
-    if (ec) throw Error(kExitCantCreate, dir.string() + ": cannot create (" + ec.message() + ")");
-    writeImage(dir / "disparity.png", result.disparityColour);
-    writeImage(dir / "thickness.png", result.thicknessColour);
-    const auto plyPath = dir / "cloud.ply";
-    std::ofstream ply(plyPath);
-    ply << "ply\nformat ascii 1.0\ncomment current surface in the baseline camera frame, mm; colour = ice thickness\n"
-        << "element vertex " << result.cloudMm.size() << "\nproperty float x\nproperty float y\nproperty float z\n"
-        << "property float thickness_mm\nproperty uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n";
-    const double scale = std::max(1.0, result.maxThicknessMm);
-    for (std::size_t i = 0; i < result.cloudMm.size(); ++i) {
-        const float t = std::isnan(result.cloudThicknessMm[i]) ? 0.0f : result.cloudThicknessMm[i];
-        const int level = static_cast<int>(std::clamp(t / scale, 0.0, 1.0) * 255.0);
-        ply << result.cloudMm[i][0] << ' ' << result.cloudMm[i][1] << ' ' << result.cloudMm[i][2] << ' ' << t << ' '
-            << level << ' ' << level << ' ' << 255 - level << '\n';
-    }
-    if (!ply) throw Error(kExitCantCreate, plyPath.string() + ": cannot write");
 }
 
 }  // namespace icewatch::volume

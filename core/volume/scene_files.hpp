@@ -39,8 +39,4 @@ struct SceneFiles {
 // different sizes). A recording needs `readRecording` (kExitUsage without it).
 SceneFiles loadSceneDirectory(const std::filesystem::path& dir, const RecordingReader& readRecording = {});
 
-// Writes disparity.png (false colour), thickness.png and cloud.ply (current surface in the
-// baseline's frame, coloured by thickness). Throws Error(kExitCantCreate).
-void writeDebugOutput(const VolumeResult& result, const std::filesystem::path& dir);
-
 }  // namespace icewatch::volume

@@ -87,4 +87,24 @@ IceSummary summarise(const ThicknessMap& map, Integration method) {
     return s;
 }
 
+cv::Mat thicknessInImage(const cv::Mat& thickness, const GridSpec& grid, const PlaneFrame& plane,
+                         const RigidTransform& toBaseline, const cv::Matx33d& kInv, const cv::Mat& outline) {
+    cv::Mat image(outline.size(), CV_32F, cv::Scalar(std::numeric_limits<float>::quiet_NaN()));
+    const cv::Vec3d centre = toBaseline.translation;
+    for (int y = 0; y < outline.rows; ++y)
+        for (int x = 0; x < outline.cols; ++x) {
+            if (!outline.at<std::uint8_t>(y, x)) continue;
+            const cv::Vec3d ray = toBaseline.rotation * (kInv * cv::Vec3d(x, y, 1.0));
+            const double along = plane.normal.dot(ray);
+            if (std::abs(along) < 1e-12) continue;
+            const cv::Point3d local = plane.toPlane(centre + (plane.normal.dot(plane.origin - centre) / along) * ray);
+            const int i = static_cast<int>(std::lround((local.x - grid.u0) / grid.du));
+            const int j = static_cast<int>(std::lround((local.y - grid.v0) / grid.dv));
+            if (i >= 0 && j >= 0 && i < grid.nu && j < grid.nv) {
+                image.at<float>(y, x) = static_cast<float>(thickness.at<double>(j, i));
+            }
+        }
+    return image;
+}
+
 }  // namespace icewatch::volume

@@ -28,6 +28,13 @@ struct ThicknessMap {
 ThicknessMap thicknessMap(const PlaneClouds& clouds, const cv::Mat& roi, const cv::Mat& possibleIce,
                           const PlaneFrame& plane, const cv::Matx33d& k, const Parameters& parameters);
 
+// For people: a grid map (NaN where none) where it lies in the current left image, inside
+// `outline`. Each pixel's ray, moved into the baseline's frame, meets the baseline's plane at the
+// grid node it shows (the plane alone misplaces it by the camber, less than a node at this scale).
+// CV_32F, NaN outside.
+cv::Mat thicknessInImage(const cv::Mat& thickness, const GridSpec& grid, const PlaneFrame& plane,
+                         const RigidTransform& toBaseline, const cv::Matx33d& kInv, const cv::Mat& outline);
+
 // The thickness map summed up for the report.
 struct IceSummary {
     double volumeMm3 = 0;

@@ -2,6 +2,7 @@
 // the fake uvcvideo device and the real V4L2 capture, the real volume chain, fake GPIO lines, on
 // simulated time; the camera is unplugged in the middle of a burst and comes back.
 #include <gtest/gtest.h>
+#include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
 #include "core/synth/scene.hpp"
@@ -109,6 +110,36 @@ TEST(EndToEnd, RecordingThroughTheFakeCameraWithAnUnplugMidBurst) {
                                                                     {"healthy", true},  // back
                                                                     {"healthy", false},
                                                                     {"alarm", false}}));  // shutdown
+}
+
+TEST(EndToEnd, ARefusedMeasurementKeepsItsPicturesWithTheReason) {
+    synth::SceneSpec spec;
+    spec.kind = synth::SceneKind::Block;
+    spec.iceVolumeMm3 = 417391;
+    spec.frameSize = {640, 240};
+    spec.supersampling = 1;
+    const synth::SyntheticScene scene = synth::renderScene(spec);
+    volume::Parameters parameters;
+    parameters.stereoMethod = stereo::Method::Sgbm;
+    for (const auto& p : scene.roi) {
+        parameters.roiPolygon.push_back(p.x);
+        parameters.roiPolygon.push_back(p.y);
+    }
+    VolumeMeasurementChain chain(scene.calibration, "scene", parameters, {5.0});
+    ASSERT_EQ(chain.setBaseline(splitSideBySide(scene.before)).status, ChainResult::Status::Ok);
+    // Night: the gate refuses what the matcher saw.
+    const cv::Mat night = scene.after * 0.05;
+    const ChainResult refused = chain.estimate(splitSideBySide(night));
+    ASSERT_EQ(refused.status, ChainResult::Status::Refused) << refused.reason;
+    for (const cv::Mat* picture : {&refused.pictures.left, &refused.pictures.disparity, &refused.pictures.thickness}) {
+        ASSERT_FALSE(picture->empty());
+        cv::Mat white;
+        cv::inRange((*picture)(cv::Rect(0, 0, picture->cols, 30)), cv::Scalar::all(200), cv::Scalar::all(255), white);
+        EXPECT_GT(cv::countNonZero(white), 20) << "the reason written across the top";
+    }
+    const ChainResult measured = chain.estimate(splitSideBySide(scene.after));
+    ASSERT_EQ(measured.status, ChainResult::Status::Ok) << measured.reason;
+    EXPECT_GT(measured.pictures.thickness.cols, 320) << "the eye and its colour bar";
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <httplib.h>
 
 #include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
 
 #include "tests/daemon/rig.hpp"
 
@@ -282,6 +283,27 @@ TEST(HttpApi, PicturesOfTheLastCycle) {
         EXPECT_EQ(r->get_header_value("Content-Type"), "image/png");
         EXPECT_EQ(r->body.substr(1, 3), "PNG") << name;
     }
+}
+
+TEST(HttpApi, PicturesOfARefusedCycle) {
+    // A refused cycle is when a person wants to look: its pictures are served, not a 404.
+    Api api;
+    api.rig.chain->script = [](int, const StereoPair& pair) {
+        ChainResult r = refusedResult("too few valid disparities");
+        r.pictures.left = cv::Mat(pair.left.size(), CV_8UC3, cv::Scalar(10, 20, 30));
+        r.pictures.disparity = cv::Mat(pair.left.size(), CV_8UC3, cv::Scalar(40, 50, 60));
+        r.pictures.thickness = cv::Mat(pair.left.size(), CV_8UC3, cv::Scalar(70, 80, 90));
+        return r;
+    };
+    api.rig.daemon->runOnce();
+    ASSERT_EQ((*api.rig.daemon->latest())["status"], "refused");
+    auto r = api.client.Get("/v1/images/latest/disparity.png");
+    ASSERT_TRUE(r);
+    ASSERT_EQ(r->status, 200);
+    const std::vector<uchar> bytes(r->body.begin(), r->body.end());
+    const cv::Mat served = cv::imdecode(bytes, cv::IMREAD_COLOR);
+    ASSERT_FALSE(served.empty());
+    EXPECT_EQ(served.at<cv::Vec3b>(0, 0), cv::Vec3b(40, 50, 60));
 }
 
 TEST(HttpApi, HealthSaysWhatIsWrong) {

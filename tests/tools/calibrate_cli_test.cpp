@@ -226,6 +226,13 @@ TEST_F(RectifyCli, WritesBothEyesAndTheLinedPicture) {
         EXPECT_EQ(a, b) << y;
     }
     EXPECT_EQ(cv::norm(lined(cv::Rect(0, 33, 1280, 31)), frameImage_(cv::Rect(0, 33, 1280, 31)), cv::NORM_INF), 0.0);
+    // Once written, the pictures are not overwritten without --force.
+    r = rectify(calibration_, frame_);
+    EXPECT_EQ(r.status, kExitCantCreate);
+    EXPECT_NE(r.err.find("--force"), std::string::npos) << r.err;
+    r = test::runProgram({icewatchBin(), "rectify", "--calib", calibration_.string(), "--frame", frame_.string(), "--out",
+                          (dir_ / "out").string(), "--force"});
+    EXPECT_EQ(r.status, 0) << r.err;
 }
 
 TEST_F(RectifyCli, RefusesAFrameOfTheWrongSize) {

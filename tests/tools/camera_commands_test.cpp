@@ -72,10 +72,26 @@ TEST(RecordCommand, WritesWhatTheCameraSentAndItReplaysIdentically) {
                                           (dir / "second").string()});
     ASSERT_EQ(second.status, 0) << second.err;
     expectSameFrames(recorded, v4l2::readRecording(dir / "second"));
-    // It never overwrites a recording.
+    // It never overwrites a recording: not without --force, which allows other files only.
     const auto again = test::runProgram({icewatchBin(), "record", "--device", "fake:" + (dir / "source").string(),
                                          "--mode", "1280x480", "--frames", "1", "--out", (dir / "first").string()});
     EXPECT_EQ(again.status, kExitCantCreate);
+    EXPECT_NE(again.err.find("--force"), std::string::npos) << again.err;
+    const auto forced = test::runProgram({icewatchBin(), "record", "--device", "fake:" + (dir / "source").string(),
+                                          "--mode", "1280x480", "--frames", "1", "--out", (dir / "first").string(),
+                                          "--force"});
+    EXPECT_EQ(forced.status, kExitCantCreate);
+    EXPECT_EQ(v4l2::readRecording(dir / "first").frames.size(), 5u);
+    std::filesystem::create_directories(dir / "notes");
+    std::ofstream(dir / "notes" / "site.txt") << "tower 7\n";
+    EXPECT_EQ(test::runProgram({icewatchBin(), "record", "--device", "fake:" + (dir / "source").string(), "--mode",
+                                "1280x480", "--frames", "1", "--out", (dir / "notes").string()})
+                  .status,
+              kExitCantCreate);
+    EXPECT_EQ(test::runProgram({icewatchBin(), "record", "--device", "fake:" + (dir / "source").string(), "--mode",
+                                "1280x480", "--frames", "1", "--out", (dir / "notes").string(), "--force"})
+                  .status,
+              0);
 }
 
 TEST(RecordCommand, RefusesABadMode) {

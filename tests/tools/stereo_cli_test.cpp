@@ -49,7 +49,10 @@ TEST(StereoCli, MatchWritesPfmAndPicture) {
         const cv::Mat d = stereo::readPfm(out);
         EXPECT_EQ(d.size(), cv::Size(80, 48));
         EXPECT_NEAR(d.at<float>(24, 50), 6.0f, 0.5f) << method;
-        EXPECT_EQ(cv::imread(colour.string()).size(), cv::Size(80, 48));
+        const cv::Mat picture = cv::imread(colour.string());
+        EXPECT_GT(picture.cols, 80) << "the disparity and its colour bar";
+        EXPECT_GE(picture.rows, 48);
+        EXPECT_EQ(r.out.rfind("disparity 80x48 on [0, 16) px", 0), 0u) << "a one-line summary: " << r.out;
         // The band [3, 16) holds the truth: the same answer there; nothing left of column 3.
         const auto banded = dir / (std::string(method) + "-band.pfm");
         r = test::runProgram({icewatchBin(), "match", "--left", p.left, "--right", p.right, "--min-disp", "3",
@@ -59,6 +62,22 @@ TEST(StereoCli, MatchWritesPfmAndPicture) {
         EXPECT_EQ(b.at<float>(24, 50), d.at<float>(24, 50)) << method;
         EXPECT_EQ(b.at<float>(24, 1), stereo::kInvalidDisparity) << method;
     }
+}
+
+TEST(StereoCli, MatchPrintsJsonOnRequest) {
+    const auto dir = test::freshTempDir();
+    const SmallPair p = writeSmallPair(dir);
+    const auto r = test::runProgram({icewatchBin(), "match", "--left", p.left, "--right", p.right, "--min-disp", "2",
+                                     "--max-disp", "16", "--method", "sgbm", "--out", (dir / "d.pfm").string(), "--json"});
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j.at("out"), (dir / "d.pfm").string());
+    EXPECT_EQ(j.at("min_disp"), 2);
+    EXPECT_EQ(j.at("max_disp"), 16);
+    EXPECT_EQ(j.at("width"), 80);
+    EXPECT_GT(j.at("valid_percent").get<double>(), 50.0);
+    EXPECT_LE(j.at("valid_percent").get<double>(), 100.0);
+    EXPECT_TRUE(j.at("color").is_null());
 }
 
 TEST(StereoCli, EvalPrintsTheMetricsAsJson) {

@@ -62,13 +62,52 @@ TEST(SynthCli, FramesWriteRecordingsTheRecorderReads) {
 TEST(SynthCli, RenderingAgainReplacesTheOtherKindOfCapture) {
     const fs::path dir = test::freshTempDir() / "scene";
     ASSERT_EQ(synth(dir, {"--frames", "2"}).status, 0);
-    ASSERT_EQ(synth(dir, {}).status, 0);
+    ASSERT_EQ(synth(dir, {"--force"}).status, 0);
     EXPECT_TRUE(fs::exists(dir / "before.png"));
     EXPECT_FALSE(fs::exists(dir / "before"));
     EXPECT_FALSE(fs::exists(dir / "after"));
-    ASSERT_EQ(synth(dir, {"--frames", "2"}).status, 0);
+    ASSERT_EQ(synth(dir, {"--frames", "2", "--force"}).status, 0);
     EXPECT_FALSE(fs::exists(dir / "before.png"));
     EXPECT_EQ(v4l2::readRecording(dir / "after").frames.size(), 2u);
+}
+
+TEST(SynthCli, AnExistingSceneIsNotOverwrittenWithoutForce) {
+    const fs::path dir = test::freshTempDir() / "scene";
+    ASSERT_EQ(synth(dir, {}).status, 0);
+    const auto written = fs::last_write_time(dir / "before.png");
+    const auto again = synth(dir, {"--seed", "5"});
+    EXPECT_EQ(again.status, kExitCantCreate);
+    EXPECT_NE(again.err.find("--force"), std::string::npos) << again.err;
+    EXPECT_EQ(fs::last_write_time(dir / "before.png"), written);
+    EXPECT_EQ(truth(dir)["seed"], 1);
+    // An empty directory is no scene to lose.
+    const fs::path empty = test::freshTempDir() / "empty";
+    fs::create_directories(empty);
+    EXPECT_EQ(synth(empty, {}).status, 0);
+}
+
+TEST(SynthCli, PrintsASummaryOrJson) {
+    const fs::path base = test::freshTempDir();
+    const auto human = synth(base / "a", {});
+    ASSERT_EQ(human.status, 0) << human.err;
+    EXPECT_NE(human.out.find("wrote a blade scene of 97609 mm3"), std::string::npos) << human.out;
+    EXPECT_EQ(human.err.find('\r'), std::string::npos) << "no progress line when stderr is not a terminal";
+    const auto json = synth(base / "b", {"--json"});
+    ASSERT_EQ(json.status, 0) << json.err;
+    EXPECT_NEAR(nlohmann::json::parse(json.out)["ice_volume_mm3"].get<double>(), 97609.0, 0.5);
+}
+
+TEST(SynthCli, ShowsProgressOnATerminal) {
+    // script(1) gives the command a terminal; its screen is script's output.
+    if (!fs::exists("/usr/bin/script")) GTEST_SKIP() << "no script(1)";
+    const fs::path dir = test::freshTempDir() / "scene";
+    const std::string command = (test::binDir() / "icewatch").string() +
+                                " synth --scene block --ice-volume-mm3 1000 --mode 320x120 --supersampling 1 --out " +
+                                dir.string();
+    const auto r = test::runProgram({"/usr/bin/script", "-qec", command, "/dev/null"});
+    ASSERT_EQ(r.status, 0) << r.err << r.out;
+    EXPECT_NE(r.out.find("synth: rendering 320x120"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("wrote a block scene"), std::string::npos) << r.out;
 }
 
 TEST(SynthCli, BadFrameCountIsAUsageError) {

@@ -1,11 +1,13 @@
 // icewatch synth and icewatch volume as a supervisor runs them: exit statuses and messages.
 #include <filesystem>
+#include <algorithm>
 #include <fstream>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
 #include "core/common/exit_codes.hpp"
@@ -131,6 +133,55 @@ TEST(VolumeCli, FloorCarriesTheImagesNoiseToTheVolume) {
     EXPECT_GT(out["floor_mm3"].get<double>(), 0.0);
     EXPECT_LT(out["floor_mm3"].get<double>(), out["whole_object_mm3"].get<double>());
     EXPECT_NEAR(out["floor_percent"].get<double>(), 100.0 * out["floor_mm3"].get<double>() / 97609.0, 1e-6);
+}
+
+// The rows at the top of a picture where a refusal's reason is written: white letters on dark.
+int whitePixelsAtTheTop(const cv::Mat& picture) {
+    cv::Mat white;
+    cv::inRange(picture(cv::Rect(0, 0, picture.cols, std::min(picture.rows, 30))), cv::Scalar::all(200),
+                cv::Scalar::all(255), white);
+    return cv::countNonZero(white);
+}
+
+TEST(VolumeCli, ARefusedSceneStillWritesItsPicturesWithTheReason) {
+    const auto dir = smallScene();
+    // A gate no scene passes: the chain refuses after the matcher has seen both captures.
+    const auto config = dir.parent_path() / "strict.json";
+    std::ofstream(config) << R"({"volume": {"min_points": 100000000}})";
+    const auto debug = dir.parent_path() / "debug";
+    const auto r = test::runProgram({icewatchBin(), "volume", "--scene", dir.string(), "--stereo-method", "sgbm",
+                                     "--config", config.string(), "--json", "--debug-dir", debug.string()});
+    ASSERT_EQ(r.status, kExitFailure) << r.err;
+    EXPECT_EQ(nlohmann::json::parse(r.out)["status"], "refused");
+    for (const char* name : {"left.png", "disparity.png", "thickness.png"}) {
+        const cv::Mat picture = cv::imread((debug / name).string());
+        ASSERT_FALSE(picture.empty()) << name;
+        EXPECT_GE(picture.cols, 320) << name;
+        EXPECT_GT(whitePixelsAtTheTop(picture), 20) << name << ": the reason is written on it";
+    }
+    EXPECT_FALSE(std::filesystem::exists(debug / "cloud.ply")) << "no surface was measured against the baseline";
+}
+
+TEST(VolumeCli, AMeasuredSceneWritesItsPicturesAndCloud) {
+    const auto dir = smallScene();
+    const auto debug = dir.parent_path() / "debug";
+    const auto r = test::runProgram({icewatchBin(), "volume", "--scene", dir.string(), "--stereo-method", "sgbm",
+                                     "--debug-dir", debug.string()});
+    ASSERT_EQ(r.status, 0) << r.err << r.out;
+    EXPECT_EQ(r.out.rfind("ice volume ", 0), 0u) << "a one-line summary without --json: " << r.out;
+    for (const char* name : {"left.png", "disparity.png", "thickness.png", "cloud.ply"}) {
+        EXPECT_TRUE(std::filesystem::exists(debug / name)) << name;
+    }
+    const cv::Mat thickness = cv::imread((debug / "thickness.png").string());
+    EXPECT_GT(thickness.cols, 320) << "the picture and its colour bar";
+    // Writing into a directory that holds results needs --force.
+    const auto again = test::runProgram({icewatchBin(), "volume", "--scene", dir.string(), "--stereo-method", "sgbm",
+                                         "--debug-dir", debug.string()});
+    EXPECT_EQ(again.status, kExitCantCreate);
+    EXPECT_NE(again.err.find("--force"), std::string::npos) << again.err;
+    const auto forced = test::runProgram({icewatchBin(), "volume", "--scene", dir.string(), "--stereo-method", "sgbm",
+                                          "--debug-dir", debug.string(), "--force"});
+    EXPECT_EQ(forced.status, 0) << forced.err;
 }
 
 }  // namespace

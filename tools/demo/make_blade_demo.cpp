@@ -39,7 +39,8 @@ int copyRecording(const fs::path& from, const fs::path& out) {
 void writeConfig(const fs::path& file, const std::string& device, const std::vector<double>& roi, int frames) {
     const nlohmann::json config = {
         {"camera", {{"device", device}, {"width", 2560}, {"height", 720}}},
-        {"calibration", {{"file", "tools/demo/blade/calibration.yaml"}}},
+        // Paths relative to the configuration file: the demo runs from any directory.
+        {"calibration", {{"file", "calibration.yaml"}}},
         // Every recorded frame in one averaged capture; a few may be dropped.
         {"daemon", {{"burst_frames", frames}, {"baseline_frames", frames}, {"min_frames", (frames + 1) / 2}}},
         {"gpio", {{"chip", "fake"}}},
@@ -71,8 +72,8 @@ int main(int argc, char** argv) {
             roi.push_back(point.at(0).get<double>());
             roi.push_back(point.at(1).get<double>());
         }
-        writeConfig(out / "icewatch-baseline.json", "fake:tools/demo/blade/baseline", roi, frames);
-        writeConfig(out / "icewatch.json", "fake:tools/demo/blade/recording", roi, frames);
+        writeConfig(out / "icewatch-baseline.json", "fake:baseline", roi, frames);
+        writeConfig(out / "icewatch.json", "fake:recording", roi, frames);
     } catch (const std::exception& e) {
         std::cerr << "make_blade_demo: " << e.what() << "\n";
         return 73;

@@ -16,6 +16,7 @@
 #include "drivers/log/log.hpp"
 #include "tools/icewatch/calibration_pairs.hpp"
 #include "tools/icewatch/command.hpp"
+#include "tools/icewatch/terminal.hpp"
 
 namespace icewatch::cli {
 
@@ -99,15 +100,20 @@ int runChessboard(const CalibrateOptions& o) {
     const auto logger = log::get("calib");
     calib::ChessboardCalibrator calibrator({parseSize(o.board, "--board"), o.squareMm});
     int seen = 0;
+    Progress progress("calibrate");
     forEachCalibrationPair(o.pairs, o.step, [&](const std::string& name, const StereoPair& pair) {
         ++seen;
+        progress.show("corners in pair " + std::to_string(seen) + " (" + name + ")");
         if (calibrator.addView(name, pair)) {
             logger->debug("{}: chessboard found in both eyes", name);
         } else {
+            progress.done();  // the warning on a line of its own
             logger->warn("{}: skipped: {}", name, calibrator.skipped().back().reason);
         }
     });
+    progress.show("calibrating from " + std::to_string(calibrator.viewsUsed()) + " pairs");
     const calib::ChessboardCalibrationResult r = calibrator.calibrate();
+    progress.done();
     const calib::StereoCalibration& c = r.calibration;
 
     std::ostringstream comment;

@@ -10,6 +10,7 @@
 #include "drivers/v4l2/recording.hpp"
 #include "tools/icewatch/camera_cli.hpp"
 #include "tools/icewatch/command.hpp"
+#include "tools/icewatch/terminal.hpp"
 
 namespace icewatch::cli {
 
@@ -25,9 +26,11 @@ struct RecordOptions {
     std::string out;
     double timeoutS = 30.0;
     bool json = false;
+    bool force = false;
 };
 
 int runRecord(const RecordOptions& o) {
+    checkOutputDirectory(o.out, o.force, "--out");
     config::CameraConfig camera = cameraConfig(o.configFile, o.device);
     if (!o.mode.empty()) parseMode(o.mode, camera.width, camera.height);
     if (!o.format.empty()) camera.format = o.format;
@@ -88,6 +91,7 @@ void addRecordCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunctio
     cmd->add_option("--out", o->out, "directory to write (must not hold a recording)")->required();
     cmd->add_option("--timeout-s", o->timeoutS, "give up after this many seconds")->check(CLI::PositiveNumber);
     cmd->add_flag("--json", o->json, "print one JSON object");
+    cmd->add_flag("--force", o->force, "record into a directory that holds other files (a recording is never replaced)");
     cmd->callback([&run, o] { run = [o] { return runRecord(*o); }; });
 }
 

@@ -12,6 +12,7 @@
 #include "core/common/error.hpp"
 #include "tools/icewatch/calibration_pairs.hpp"
 #include "tools/icewatch/command.hpp"
+#include "tools/icewatch/terminal.hpp"
 
 namespace icewatch::cli {
 
@@ -26,6 +27,7 @@ struct RectifyOptions {
     std::string frame;
     std::string out;
     bool json = false;
+    bool force = false;
 };
 
 void writeImage(const fs::path& path, const cv::Mat& image) {
@@ -63,6 +65,7 @@ int runRectify(const RectifyOptions& o) {
     const StereoPair rectified = rectifier.rectify(splitSideBySide(frame));
 
     const fs::path dir(o.out);
+    checkOutputDirectory(dir, o.force, "--out");
     std::error_code error;
     fs::create_directories(dir, error);
     if (error || !fs::is_directory(dir)) {
@@ -95,6 +98,7 @@ void addRectifyCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFuncti
     cmd->add_option("--frame", o->frame, "side-by-side frame (.jpg, .png), left eye = left half")->required();
     cmd->add_option("--out", o->out, "output directory: left.png, right.png, rectified_lines.png")->required();
     cmd->add_flag("--json", o->json, "print the written files as one JSON object");
+    addForceFlag(*cmd, o->force);
     cmd->callback([&run, o] { run = [o] { return runRectify(*o); }; });
 }
 

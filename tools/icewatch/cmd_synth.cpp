@@ -14,6 +14,7 @@
 #include "core/synth/scene.hpp"
 #include "drivers/v4l2/recording.hpp"
 #include "tools/icewatch/command.hpp"
+#include "tools/icewatch/terminal.hpp"
 
 namespace icewatch::cli {
 
@@ -83,6 +84,8 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
         std::string motion = "small";
         std::string background = "sky";
         double lightChange = 1.0;
+        bool force = false;
+        bool json = false;
     };
     auto o = std::make_shared<Options>();
     cmd->add_option("--scene", o->scene, "blade or block")->check(CLI::IsMember({"blade", "block"}));
@@ -109,6 +112,8 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
                     "the current capture's illumination times this, 0.2..3 (saturates at white)")
         ->check(CLI::Range(synth::kMinLightChange, synth::kMaxLightChange));
     cmd->add_option("--out", o->out, "scene directory to write")->required();
+    addForceFlag(*cmd, o->force);
+    cmd->add_flag("--json", o->json, "print what was written as one JSON object");
     cmd->add_flag("--truth-maps", o->truthMaps,
                   "also write the left eye's true disparities (truth_disparity_{before,after}.pfm) and ice thickness "
                   "(truth_ice_mm.pfm)");
@@ -118,6 +123,7 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
                 throw Error(kExitUsage,
                             "--ice " + o->ice + ": the ice kind is the blade's; a block scene's ice is the block");
             }
+            checkOutputDirectory(o->out, o->force, "--out");
             synth::SceneSpec spec;
             spec.kind = synth::parseSceneKind(o->scene);
             spec.iceVolumeMm3 = o->volumeMm3;
@@ -131,7 +137,10 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
             spec.motion = synth::parseMotionKind(o->motion);
             spec.background = synth::parseBackground(o->background);
             spec.lightChange = o->lightChange;
+            Progress progress("synth");
+            progress.show("rendering " + o->mode + " x " + std::to_string(spec.frames) + " frames");
             const synth::SyntheticScene scene = synth::renderScene(spec);
+            progress.show("writing " + o->out);
             removeOldCaptures(o->out);
             synth::writeScene(scene, spec, o->out, o->truthMaps);
             if (spec.frames > 1) {
@@ -139,10 +148,16 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
                 writeRecording(out / "before", scene.beforeJpeg, spec.frameSize);
                 writeRecording(out / "after", scene.afterJpeg, spec.frameSize);
             }
-            std::cout << nlohmann::json{{"out", o->out}, {"scene", o->scene}, {"ice_volume_mm3", scene.iceVolumeMm3},
-                                      {"frames", spec.frames}}
-                             .dump()
-                      << "\n";
+            progress.done();
+            if (o->json) {
+                std::cout << nlohmann::json{{"out", o->out}, {"scene", o->scene}, {"ice_volume_mm3", scene.iceVolumeMm3},
+                                          {"frames", spec.frames}}
+                                 .dump()
+                          << "\n";
+            } else {
+                std::cout << "wrote a " << o->scene << " scene of " << scene.iceVolumeMm3 << " mm3 of ice, "
+                          << spec.frames << " frame(s) per capture, to " << o->out << "\n";
+            }
             return 0;
         };
     });

@@ -8,11 +8,13 @@
 #include "core/common/error.hpp"
 #include "core/config/config.hpp"
 #include "core/common/side_by_side.hpp"
+#include "core/pictures/debug_directory.hpp"
 #include "core/volume/capture_average.hpp"
 #include "core/volume/chain.hpp"
 #include "core/volume/scene_files.hpp"
 #include "tools/icewatch/command.hpp"
 #include "tools/icewatch/scene_recordings.hpp"
+#include "tools/icewatch/terminal.hpp"
 
 namespace icewatch::cli {
 
@@ -46,6 +48,7 @@ void addVolumeCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunctio
         std::string config;
         std::string debugDir;
         bool json = false;
+        bool force = false;
     };
     auto o = std::make_shared<Options>();
     cmd->add_option("--scene", o->scene, "directory with calibration.yaml, before.png or before/ (a recording), after.png or after/ [, roi.json]")
@@ -53,10 +56,12 @@ void addVolumeCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunctio
     cmd->add_option("--method", o->method, "integration: trapz (default) or sum")->check(CLI::IsMember({"trapz", "sum"}));
     cmd->add_option("--stereo-method", o->stereoMethod, "matcher: paper, adcensus or sgbm (default: configuration)");
     cmd->add_option("--config", o->config, "configuration file whose \"volume\" and \"stereo\" sections to use");
-    cmd->add_option("--debug-dir", o->debugDir, "write disparity.png, thickness.png and cloud.ply here");
+    cmd->add_option("--debug-dir", o->debugDir, "write left.png, disparity.png, thickness.png (refused too, with the reason) and cloud.ply here");
     cmd->add_flag("--json", o->json, "print the result as one JSON object");
+    addForceFlag(*cmd, o->force);
     cmd->callback([&run, o] {
         run = [o] {
+            if (!o->debugDir.empty()) checkOutputDirectory(o->debugDir, o->force, "--debug-dir");
             config::Config configuration;
             if (!o->config.empty()) configuration = config::loadConfig(o->config);
             volume::Parameters parameters = configuration.volume;
@@ -78,16 +83,25 @@ void addVolumeCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunctio
                     parameters.roiPolygon.push_back(p.y);
                 }
             }
+            Progress progress("volume");
             volume::VolumeChain chain(scene.calibration, parameters, [] { return std::chrono::steady_clock::now(); },
                                       configuration.stereo);
+            progress.show("averaging the captures");
             const volume::AveragedCapture before = averageSceneCapture(scene.before, configuration.daemon.health);
             const volume::AveragedCapture after = averageSceneCapture(scene.after, configuration.daemon.health);
+            progress.show("measuring the baseline");
             const volume::Surface baseline = chain.measureSurface(before.frame);
+            progress.show("measuring the current capture");
             const volume::Surface current = chain.measureSurface(after.frame);
+            progress.show("estimating the ice");
             const volume::VolumeResult r = chain.estimate(baseline, current);
-            if (!o->debugDir.empty() && r.ok) {
-                volume::writeDebugOutput(r, o->debugDir);
+            if (!o->debugDir.empty()) {
+                // A refusal too: that is when a person wants to look.
+                const pictures::MeasurementPictures drawn =
+                    pictures::drawMeasurement(current, r, parameters.maxDisparity, configuration.pictures);
+                pictures::writeDebugDirectory(drawn, r, configuration.pictures, o->debugDir);
             }
+            progress.done();
             nlohmann::json timings = timingsJson(current.timingsMs);
             const nlohmann::json estimateTimings = timingsJson(r.timingsMs);
             for (const auto& [stage, ms] : estimateTimings.items()) {

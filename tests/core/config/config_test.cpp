@@ -105,6 +105,7 @@ TEST(Config, ShippedFileDocumentsTheDefaults) {
     EXPECT_EQ(shipped.http.port, defaults.http.port);
     EXPECT_EQ(shipped.http.token, defaults.http.token);
     EXPECT_EQ(shipped.history.retentionDays, defaults.history.retentionDays);
+    EXPECT_EQ(shipped.pictures.maxThicknessMm, defaults.pictures.maxThicknessMm);
     const volume::Parameters &v = shipped.volume, &d = defaults.volume;
     EXPECT_EQ(v.stereoMethod, d.stereoMethod);
     EXPECT_EQ(v.maxDisparity, d.maxDisparity);
@@ -292,6 +293,49 @@ TEST(Config, TheGpioSectionAloneIsReadFromAnyFile) {
     gpio = loadGpioSection(dir / "absent.json", problem);
     EXPECT_FALSE(problem.empty());
     EXPECT_EQ(gpio.alarmLine, GpioConfig{}.alarmLine);
+}
+
+TEST(Config, EveryProblemIsReportedNotOnlyTheFirst) {
+    const std::string error = errorOf(R"({"camera": {"fps": 0, "width": 641, "colour": 1},
+                                         "daemon": {"interval_s": "often"},
+                                         "alarm": "loud",
+                                         "pictures": {"max_thickness_mm": -1}})");
+    for (const char* problem : {"test.json: camera.fps: must be between", "test.json: camera.width: must be even",
+                                "test.json: camera.colour: unknown key", "test.json: daemon.interval_s: must be an integer",
+                                "test.json: alarm: must be an object", "test.json: pictures.max_thickness_mm: must be between"}) {
+        EXPECT_NE(error.find(problem), std::string::npos) << problem << " in:\n" << error;
+    }
+    const auto dir = test::freshTempDir();
+    std::ofstream(dir / "two.json") << R"({"camera": {"fps": 0}, "http": {"port": -1}})";
+    const ConfigCheck check = checkConfigFile(dir / "two.json");
+    ASSERT_EQ(check.problems.size(), 2u);
+    EXPECT_NE(check.problems[0].find("camera.fps"), std::string::npos);
+    EXPECT_NE(check.problems[1].find("http.port"), std::string::npos);
+    EXPECT_EQ(check.config.camera.fps, CameraConfig{}.fps) << "a wrong value keeps the default";
+}
+
+TEST(Config, RelativePathsMeanTheFilesOwnDirectory) {
+    const auto dir = test::freshTempDir() / "site";
+    std::filesystem::create_directories(dir);
+    std::ofstream(dir / "icewatch.json") << R"({"calibration": {"file": "calib/box7.yaml"},
+        "camera": {"device": "fake:recording"}, "daemon": {"state_dir": "state"},
+        "http": {"token_file": "/etc/icewatch/http-token"}, "gpio": {"chip": "fake:gpio.log"}})";
+    const Config c = loadConfig(dir / "icewatch.json");
+    EXPECT_EQ(c.calibration.file, (dir / "calib/box7.yaml").string());
+    EXPECT_EQ(c.camera.device, "fake:" + (dir / "recording").string());
+    EXPECT_EQ(c.daemon.stateDir, (dir / "state").string());
+    EXPECT_EQ(c.http.tokenFile, "/etc/icewatch/http-token") << "absolute paths stay";
+    EXPECT_EQ(c.gpio.chip, "fake:" + (dir / "gpio.log").string());
+    // Names that are not paths stay as they are.
+    std::ofstream(dir / "real.json") << R"({"camera": {"device": "/dev/video2"}, "gpio": {"chip": "gpiochip0"}})";
+    const Config real = loadConfig(dir / "real.json");
+    EXPECT_EQ(real.camera.device, "/dev/video2");
+    EXPECT_EQ(real.gpio.chip, "gpiochip0");
+}
+
+TEST(Config, PicturesSection) {
+    EXPECT_EQ(parseConfig(R"({"pictures": {"max_thickness_mm": 25}})", "test.json").pictures.maxThicknessMm, 25.0);
+    EXPECT_EQ(errorOf(R"({"pictures": {"scale": 1}})"), "test.json: pictures.scale: unknown key");
 }
 
 }  // namespace
