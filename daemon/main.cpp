@@ -113,8 +113,14 @@ int serve(const std::string& configFile, const std::string& stateDir, bool once,
         return ensureToken(config);
     }
     daemon::DaemonOptions options{configFile, daemon::sha256OfFile(configFile).value_or(""), ICEWATCH_VERSION};
-    daemon::DaemonParts parts{daemon::makeFrameSource(config), daemon::makeMeasurementChain(config),
-                              once ? nullptr : gpio::openScadaOutputs(config.gpio)};
+    // The calibration and the GPIO chip may be missing on a first start: the daemon reports that
+    // and retries (DaemonParts), rather than exiting into systemd's restart loop.
+    daemon::DaemonParts parts;
+    parts.source = daemon::makeFrameSource(config);
+    parts.makeChain = [&config] { return daemon::makeMeasurementChain(config); };
+    if (!once) {
+        parts.openOutputs = [&config] { return daemon::openAlarmOutputs(config.gpio); };
+    }
     daemon::SystemClock clock;
     daemon::SystemdNotifier notifier;
     // With Modbus on, the loop's watchdog pings also drive the heartbeat register.

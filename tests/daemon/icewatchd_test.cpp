@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include <fstream>
+#include <functional>
 #include <cstring>
 #include <thread>
 
@@ -276,6 +277,50 @@ TEST(Icewatchd, ComesThroughUnplugStallAndCorruptFramesOfTheCamera) {
     const auto latest = nlohmann::json::parse(std::ifstream(dir / "state" / "latest.json"), nullptr, false);
     EXPECT_EQ(latest["status"], "ok") << latest;
     EXPECT_EQ(latest["alarm"], "none") << latest;
+}
+
+TEST(Icewatchd, FirstStartWithoutCalibrationOrGpioChip) {
+    const auto dir = icewatch::test::freshTempDir();
+    const auto configFile = dir / "icewatch.json";
+    nlohmann::json config = nlohmann::json::parse(configText(dir));
+    const auto calibration = dir / "installed-later.yaml";
+    config["calibration"]["file"] = calibration.string();
+    config["gpio"]["chip"] = "gpiochip193";  // no such device on this machine
+    std::ofstream(configFile) << config.dump(2);
+    Process daemon(dir, {"--config", configFile.string()});
+    const std::string ready = daemon.awaitNotify("READY=1");
+    ASSERT_FALSE(ready.empty()) << "it did not come up";
+    httplib::Client client("127.0.0.1", portFrom(ready));
+    const auto healthUntil = [&](const std::function<bool(const nlohmann::json&)>& done) {
+        nlohmann::json h;
+        for (int waited = 0; waited < kGuardMs; waited += 20) {
+            if (auto r = client.Get("/v1/health"); r && r->status == 503) {
+                h = nlohmann::json::parse(r->body, nullptr, false);
+                if (h.is_object() && done(h)) break;
+            }
+            std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        }
+        return h;
+    };
+    nlohmann::json h = healthUntil([](const nlohmann::json& j) { return !j["last_result"].is_null(); });
+    ASSERT_TRUE(h.is_object());
+    const std::string reasons = h["reasons"].dump();
+    EXPECT_NE(reasons.find("no calibration: run icewatch calibrate"), std::string::npos) << reasons;
+    EXPECT_NE(reasons.find("--out " + calibration.string()), std::string::npos) << reasons;
+    EXPECT_NE(reasons.find("no GPIO chip gpiochip193"), std::string::npos) << reasons;
+    EXPECT_EQ(h["alarm"], "fault");
+    auto latest = client.Get("/v1/latest");
+    ASSERT_TRUE(latest);
+    EXPECT_EQ(nlohmann::json::parse(latest->body)["status"], "fault");
+
+    calib::saveCalibration(calibration, calib::nominalCalibration({1280, 720}, 80.0, 60.0));
+    daemon.signal(SIGHUP);
+    h = healthUntil([](const nlohmann::json& j) { return j["reasons"].dump().find("no calibration") == std::string::npos; });
+    EXPECT_EQ(h["reasons"].dump().find("no calibration"), std::string::npos) << h["reasons"];
+    EXPECT_NE(h["reasons"].dump().find("no GPIO chip gpiochip193"), std::string::npos) << "still no chip";
+
+    daemon.signal(SIGTERM);
+    EXPECT_EQ(daemon.awaitExit(), 0) << "it never exited on its own";
 }
 
 TEST(Icewatchd, FailSafeOutputsDropTheLinesWhateverElseTheFileGetsWrong) {
