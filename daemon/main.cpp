@@ -85,6 +85,11 @@ int failSafeOutputs(const std::string& configFile) {
         log::get("daemon")->error("{}; dropping the outputs of the default gpio settings (chip {}, lines {} and {})",
                                   problem, gpio.chip, gpio.alarmLine, gpio.healthyLine);
     }
+    if (const auto missing = daemon::missingGpioChip(gpio)) {
+        // No chip, no driver: nothing can hold a line energised (a box without its I/O board).
+        log::get("daemon")->warn("{}: no line is energised", *missing);
+        return kExitOk;
+    }
     if (!gpio::openScadaOutputs(gpio)->failSafe()) {
         throw Error(kExitUnavailable, "could not drop every output line of chip " + gpio.chip);
     }

@@ -29,14 +29,21 @@ std::unique_ptr<MeasurementChain> makeMeasurementChain(const config::Config& con
     }
 }
 
-std::unique_ptr<gpio::ScadaOutputs> openAlarmOutputs(const config::GpioConfig& config) {
+std::optional<std::string> missingGpioChip(const config::GpioConfig& config) {
     const std::string& chip = config.chip;
     // libgpiod also takes labels and numbers; a name or path that names no device is the case a
     // box without its I/O board (or a desk PC) meets, so it gets the plain answer.
-    const std::filesystem::path device = chip.rfind('/', 0) == 0 ? chip : "/dev/" + chip;
+    const bool isPath = chip.rfind('/', 0) == 0;
+    if (!isPath && chip.rfind("gpiochip", 0) != 0) return std::nullopt;
+    const std::filesystem::path device = isPath ? chip : "/dev/" + chip;
     std::error_code error;
-    if ((chip.rfind('/', 0) == 0 || chip.rfind("gpiochip", 0) == 0) && !std::filesystem::exists(device, error)) {
-        throw Error(kExitUnavailable, "no GPIO chip " + chip + " (" + device.string() + " does not exist; gpio.chip)");
+    if (std::filesystem::exists(device, error)) return std::nullopt;
+    return "no GPIO chip " + chip + " (" + device.string() + " does not exist; gpio.chip)";
+}
+
+std::unique_ptr<gpio::ScadaOutputs> openAlarmOutputs(const config::GpioConfig& config) {
+    if (const auto missing = missingGpioChip(config)) {
+        throw Error(kExitUnavailable, *missing);
     }
     return gpio::openScadaOutputs(config);
 }

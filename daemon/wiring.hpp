@@ -1,6 +1,8 @@
 #pragma once
 
 #include <memory>
+#include <optional>
+#include <string>
 
 #include "core/config/config.hpp"
 #include "daemon/frame_source.hpp"
@@ -17,5 +19,7 @@ namespace icewatch::daemon {
 std::unique_ptr<FrameSource> makeFrameSource(const config::Config& config);
 std::unique_ptr<MeasurementChain> makeMeasurementChain(const config::Config& config);
 std::unique_ptr<gpio::ScadaOutputs> openAlarmOutputs(const config::GpioConfig& config);
+// "no GPIO chip gpiochip0 (...)" when gpio.chip names a device that does not exist, else nullopt.
+std::optional<std::string> missingGpioChip(const config::GpioConfig& config);
 
 }  // namespace icewatch::daemon

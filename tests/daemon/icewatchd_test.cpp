@@ -339,13 +339,21 @@ TEST(Icewatchd, FailSafeOutputsDropTheLinesWhateverElseTheFileGetsWrong) {
               std::string::npos)
         << run.err;
     // A file that is not even JSON (a number no double holds): the compiled-in gpio settings are
-    // dropped; there is no gpiochip0 here, so that fails as unavailable (69), not as a config error.
+    // dropped, never a config error.
     std::filesystem::copy_file(icewatch::test::sourceDir() / "tests/core/config/bad-inputs/overflow.json", configFile,
                                std::filesystem::copy_options::overwrite_existing);
     run = failSafe();
     EXPECT_NE(run.err.find("dropping the outputs of the default gpio settings (chip gpiochip0"), std::string::npos)
         << run.err;
     EXPECT_NE(run.status, 78) << run.err;
+    // A chip that does not exist holds no line energised: that is success, so the unit's
+    // ExecStopPost does not mark every stop of a box without its I/O board as failed.
+    std::ofstream(configFile) << R"({"gpio": {"chip": "gpiochip193"}})";
+    run = failSafe();
+    EXPECT_EQ(run.status, 0) << run.err;
+    EXPECT_NE(run.err.find("no GPIO chip gpiochip193 (/dev/gpiochip193 does not exist; gpio.chip): no line is energised"),
+              std::string::npos)
+        << run.err;
 }
 
 TEST(Icewatchd, EnsureTokenMakesAPrivateTokenFileOnce) {
