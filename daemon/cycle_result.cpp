@@ -3,6 +3,8 @@
 // zero is a measurement ("no ice"), null is "not measured".
 #include "daemon/cycle_result.hpp"
 
+#include <algorithm>
+
 #include "daemon/iso_time.hpp"
 
 namespace icewatch::daemon {
@@ -52,6 +54,8 @@ nlohmann::json toJson(const CycleResult& r) {
         {"max_thickness_mm", optionalNumber(r.maxThicknessMm)},
         {"valid_percent", optionalNumber(r.validPercent)},
         {"alarm", alarm::toString(r.alarm)},
+        {"alarm_reason", r.alarmReason.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.alarmReason)},
+        {"last_ok", r.lastOk ? nlohmann::json(formatIsoUtc(*r.lastOk)) : nlohmann::json(nullptr)},
         {"camera", toString(r.camera)},
         {"quality",
          {{"frames_grabbed", r.framesGrabbed},
@@ -64,14 +68,27 @@ nlohmann::json toJson(const CycleResult& r) {
     };
 }
 
-nlohmann::json withStaleness(nlohmann::json document, std::chrono::system_clock::time_point now, int intervalS) {
-    bool stale = true;
-    if (document.contains("time") && document["time"].is_string()) {
-        if (const auto time = parseIsoUtc(document["time"].get<std::string>())) {
-            stale = now - *time > std::chrono::seconds(2 * static_cast<long long>(intervalS));
-        }
+nlohmann::json withStaleness(nlohmann::json document, std::chrono::system_clock::time_point now,
+                             const config::DaemonConfig& config) {
+    using std::chrono::seconds;
+    const auto timeOf = [&document](const char* key) -> std::optional<std::chrono::system_clock::time_point> {
+        if (!document.contains(key) || !document[key].is_string()) return std::nullopt;
+        return parseIsoUtc(document[key].get<std::string>());
+    };
+    const auto time = timeOf("time");
+    const auto lastOk = timeOf("last_ok");
+    std::optional<std::chrono::system_clock::time_point> since;
+    if (time) {
+        const auto noNews = *time + seconds(2 * static_cast<long long>(config.intervalS));
+        if (now > noNews) since = noNews;
     }
-    document["stale"] = stale;
+    if (lastOk) {
+        // Never an ok result: nothing shown can be old, and the level is fault anyway.
+        const auto unmeasured = *lastOk + seconds(config::maxRefusedS(config));
+        if (now >= unmeasured) since = since ? std::min(*since, unmeasured) : unmeasured;
+    }
+    document["stale"] = !time || since.has_value();
+    document["stale_since"] = since ? nlohmann::json(formatIsoUtc(*since)) : nlohmann::json(nullptr);
     return document;
 }
 

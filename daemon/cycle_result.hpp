@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/alarm/alarm_state.hpp"
+#include "core/config/config.hpp"
 #include "daemon/frame_source.hpp"
 
 namespace icewatch::daemon {
@@ -41,6 +42,10 @@ struct CycleResult {
     std::optional<double> maxThicknessMm;
     std::optional<double> validPercent;
     alarm::AlarmLevel alarm = alarm::AlarmLevel::Fault;
+    std::string alarmReason;  // why the level is fault; empty otherwise
+    // The latest ok result's time, this one's included: what "stale" and the max_refused_s fault
+    // are judged by. nullopt: none since the state directory was made.
+    std::optional<std::chrono::system_clock::time_point> lastOk;
     CameraState camera = CameraState::Offline;
     int framesGrabbed = 0;
     int framesHealthy = 0;
@@ -54,7 +59,11 @@ struct CycleResult {
 // The document, without "stale" (that depends on when it is read).
 nlohmann::json toJson(const CycleResult& result);
 
-// Adds "stale": true once the result is older than two measurement intervals at `now`.
-nlohmann::json withStaleness(nlohmann::json document, std::chrono::system_clock::time_point now, int intervalS);
+// Adds "stale" and "stale_since" as judged at `now`: stale once the result is older than two
+// measurement intervals (the loop stopped publishing) or the latest ok result ("last_ok") is
+// daemon.max_refused_s old or older (results keep coming, but none measured). stale_since: when
+// that began, null when not stale.
+nlohmann::json withStaleness(nlohmann::json document, std::chrono::system_clock::time_point now,
+                             const config::DaemonConfig& config);
 
 }  // namespace icewatch::daemon

@@ -86,13 +86,20 @@ Daemon::Daemon(config::Config config, DaemonOptions options, Clock& clock, Daemo
       history_(stateDir_ / "history.sqlite", History::Mode::ReadWrite, clock_.now()),
       alarm_(config_.alarm),
       token_(resolveHttpToken(config_.http, /*create=*/true)) {
-    if (!parts_.source || !parts_.chain) {
+    if (!parts_.source || (!parts_.chain && !parts_.makeChain)) {
         throw Error(kExitSoftware, "daemon: a frame source and a measurement chain are required");
     }
     // The last result survives a restart for GET /v1/latest (it is stale by then, and says so).
     if (std::ifstream in(stateDir_ / "latest.json"); in) {
         auto doc = nlohmann::json::parse(in, nullptr, false);
         if (isResultDocument(doc)) {
+            // The age of the latest ok result survives too: a restart does not restart the clock
+            // of max_refused_s.
+            if (doc.contains("last_ok") && doc["last_ok"].is_string()) {
+                lastOk_ = parseIsoUtc(doc["last_ok"].get<std::string>());
+            } else if (doc["status"] == "ok") {
+                lastOk_ = parseIsoUtc(doc["time"].get<std::string>());
+            }
             latest_ = std::move(doc);
         } else {
             logger()->warn("{}: not a result document; ignored", (stateDir_ / "latest.json").string());
@@ -101,10 +108,13 @@ Daemon::Daemon(config::Config config, DaemonOptions options, Clock& clock, Daemo
     if (token_.value.empty() && config_.http.enabled) {
         logger()->error("no HTTP token ({}): every POST will be refused", token_.problem);
     }
-    loadStoredBaseline();
+    if (parts_.chain) {
+        loadStoredBaseline();
+    }
     if (parts_.outputs) {
         parts_.outputs->show(alarm_.level());
     }
+    completeParts();
 }
 
 Daemon::~Daemon() {
@@ -114,7 +124,62 @@ Daemon::~Daemon() {
     }
 }
 
+namespace {
+
+// One attempt at a missing part; the reason is logged when it changes, not at every retry.
+template <typename Part>
+bool tryToMake(const std::function<std::unique_ptr<Part>()>& factory, std::unique_ptr<Part>& part, std::string& missing,
+          std::mutex& mutex) {
+    std::string why;
+    try {
+        part = factory();
+    } catch (const std::exception& e) {
+        why = e.what();
+    }
+    std::lock_guard lock(mutex);
+    if (part) {
+        missing.clear();
+        return true;
+    }
+    if (why != missing) {
+        logger()->error("{}; retried on SIGHUP and every daemon.camera_check_s", why);
+    }
+    missing = why;
+    return false;
+}
+
+}  // namespace
+
+void Daemon::completeParts() {
+    bool arrived = false;
+    if (!parts_.chain && parts_.makeChain && tryToMake(parts_.makeChain, parts_.chain, chainMissing_, mutex_)) {
+        logger()->info("calibration {} loaded", config_.calibration.file);
+        loadStoredBaseline();
+        arrived = true;
+    }
+    if (!parts_.outputs && parts_.openOutputs && tryToMake(parts_.openOutputs, parts_.outputs, outputsMissing_, mutex_)) {
+        logger()->info("alarm outputs on {} opened", config_.gpio.chip);
+        parts_.outputs->show(alarm_.level());
+        arrived = true;
+    }
+    if (!arrived) return;
+    if (const std::string missing = missingParts(); !missing.empty()) {
+        alarm_.fault(missing);  // the reason shown is what is still missing
+        republishAlarm();
+        return;
+    }
+    std::lock_guard lock(mutex_);
+    requests_.measure = true;  // the fault clears with a real measurement, not by assumption
+}
+
+std::string Daemon::missingParts() const {
+    std::lock_guard lock(mutex_);
+    if (chainMissing_.empty() || outputsMissing_.empty()) return chainMissing_ + outputsMissing_;
+    return chainMissing_ + "; " + outputsMissing_;
+}
+
 void Daemon::loadStoredBaseline() {
+    if (!parts_.chain) return;  // loaded when the calibration arrives
     std::string why;
     std::optional<BaselineRecord> record = loadBaseline(stateDir_, why);
     if (!record) {
@@ -250,11 +315,18 @@ void Daemon::loop(std::optional<TimePoint> end) {
             }
         }
         if (clock_.now() >= nextCheck) {
+            completeParts();
             checkCamera();
             nextCheck = clock_.now() + std::chrono::seconds(config_.daemon.cameraCheckS);
         }
+        if (faultIfUnmeasured(clock_.now())) {
+            republishAlarm();
+        }
         progress();
         TimePoint deadline = std::min(nextCycle, nextCheck);
+        if (lastOk_ && !alarm_.faulted()) {
+            deadline = std::min(deadline, *lastOk_ + std::chrono::seconds(config::maxRefusedS(config_.daemon)));
+        }
         if (end) deadline = std::min(deadline, *end);
         if (notifier_ && notifier_->watchdogInterval()) {
             deadline = std::min(deadline, clock_.now() + std::chrono::duration_cast<TimePoint::duration>(
@@ -272,6 +344,18 @@ std::optional<CycleResult> Daemon::runOnce() {
 }
 
 std::optional<CycleResult> Daemon::runCycle() {
+    if (const std::string missing = missingParts(); !missing.empty()) {
+        // Nothing can be measured or signalled as it should: a fault that says what to do.
+        alarm_.fault(missing);
+        CycleResult r;
+        r.time = clock_.now();
+        r.status = CycleStatus::Fault;
+        r.reason = missing;
+        std::string detail;
+        r.camera = parts_.source->health(detail);
+        logger()->warn("fault: {}", missing);
+        return publish(std::move(r), {}, true);
+    }
     std::optional<CycleOutcome> outcome = runMeasurementCycle(
         *parts_.source, *parts_.chain, config_.daemon, clock_.now(), [this] { return stopping(); },
         [this] { progress(); });
@@ -281,8 +365,13 @@ std::optional<CycleResult> Daemon::runCycle() {
     }
     CycleResult& r = outcome->result;
     switch (r.status) {
-        case CycleStatus::Ok: alarm_.measured(*r.volumeMm3, *r.meanThicknessMm, r.time); break;
-        case CycleStatus::Refused: break;  // the gate said no: the alarm keeps its level
+        case CycleStatus::Ok:
+            alarm_.measured(*r.volumeMm3, *r.meanThicknessMm, r.time);
+            lastOk_ = r.time;
+            break;
+        // The gate said no: nothing was measured, so nothing may lower the level; only its age
+        // (max_refused_s) can raise it to fault.
+        case CycleStatus::Refused: faultIfUnmeasured(r.time); break;
         case CycleStatus::NoBaseline: alarm_.fault("no baseline"); break;
         case CycleStatus::Fault: alarm_.fault(r.reason); break;
     }
@@ -328,6 +417,14 @@ void Daemon::checkCamera() {
 
 void Daemon::captureBaseline(const std::string& who) {
     logger()->info("baseline capture requested by {}", who);
+    if (!parts_.chain) {
+        const std::string reason = "no baseline without a calibration: " + missingParts();
+        logger()->error("baseline capture failed: {}", reason);
+        std::lock_guard lock(mutex_);
+        lastBaselineCapture_ = {{"time", formatIsoUtc(clock_.now())}, {"ok", false}, {"reason", reason},
+                                {"requested_by", who}};
+        return;
+    }
     BaselineCapture capture = captureBaselinePair(*parts_.source, *parts_.chain, config_.daemon,
                                                   [this] { return stopping(); }, [this] { progress(); });
     const TimePoint time = clock_.now();
@@ -382,12 +479,29 @@ void Daemon::resetAlarm() {
     const alarm::AlarmLevel before = alarm_.level();
     const alarm::AlarmLevel after = alarm_.reset(clock_.now());
     logger()->info("alarm reset: {} -> {}", alarm::toString(before), alarm::toString(after));
-    if (parts_.outputs) {
-        parts_.outputs->show(after);
+    republishAlarm();
+}
+
+bool Daemon::faultIfUnmeasured(TimePoint now) {
+    if (alarm_.faulted()) return false;  // already fault, with its own reason
+    const int limitS = config::maxRefusedS(config_.daemon);
+    if (lastOk_ && now - *lastOk_ < std::chrono::seconds(limitS)) return false;
+    const std::string reason = "no ok result since " + (lastOk_ ? formatIsoUtc(*lastOk_) : std::string("the start")) +
+                               " (daemon.max_refused_s " + std::to_string(limitS) + " s): nothing measured is not no ice";
+    logger()->error("{}; fault until a measurement succeeds", reason);
+    alarm_.fault(reason);
+    return true;
+}
+
+void Daemon::republishAlarm() {
+    const alarm::AlarmLevel level = alarm_.level();
+    if (parts_.outputs && !parts_.outputs->show(level)) {
+        logger()->error("the alarm outputs could not all be driven");
     }
     std::lock_guard lock(mutex_);
     if (latest_) {
-        (*latest_)["alarm"] = alarm::toString(after);
+        (*latest_)["alarm"] = alarm::toString(level);
+        (*latest_)["alarm_reason"] = alarm_.faulted() ? nlohmann::json(alarm_.faultReason()) : nlohmann::json(nullptr);
         if (!writeFileAtomically(stateDir_ / "latest.json", latest_->dump(2) + "\n")) {
             logger()->error("cannot write {}", (stateDir_ / "latest.json").string());
         }
@@ -396,6 +510,7 @@ void Daemon::resetAlarm() {
 }
 
 void Daemon::reload() {
+    completeParts();  // SIGHUP after installing the calibration: no need to wait for a check
     if (options_.configFile.empty()) {
         logger()->warn("reload requested but the daemon was not started from a configuration file");
         return;
@@ -446,6 +561,8 @@ void Daemon::reload() {
 
 CycleResult Daemon::publish(CycleResult result, const ChainPictures& pictures, bool toHistory) {
     result.alarm = alarm_.level();
+    result.alarmReason = alarm_.faulted() ? alarm_.faultReason() : "";
+    result.lastOk = lastOk_;
     result.version = options_.version;
     result.configSha256 = options_.configSha256;
     // The history first, so that latest.json can say whether it was written.
@@ -491,7 +608,7 @@ std::optional<nlohmann::json> Daemon::latest() const {
     if (!latest_) {
         return std::nullopt;
     }
-    return withStaleness(*latest_, clock_.now(), config_.daemon.intervalS);
+    return withStaleness(*latest_, clock_.now(), config_.daemon);
 }
 
 alarm::AlarmLevel Daemon::alarmLevel() const {
@@ -516,10 +633,30 @@ std::optional<std::string> Daemon::iceShown() const {
 nlohmann::json Daemon::health() const {
     std::lock_guard lock(mutex_);
     const std::string alarmText = latest_ ? textOf(*latest_, "alarm", "fault") : "fault";
-    const bool stale = latest_ ? withStaleness(*latest_, clock_.now(), config_.daemon.intervalS)["stale"].get<bool>() : true;
+    const nlohmann::json served = latest_ ? withStaleness(*latest_, clock_.now(), config_.daemon) : nlohmann::json();
+    const bool stale = latest_ ? served["stale"].get<bool>() : true;
     const std::string historyRecovery = history_.recovery();
+    // What a person reading the 503 needs to know, most fundamental first.
+    nlohmann::json reasons = nlohmann::json::array();
+    for (const std::string* missing : {&chainMissing_, &outputsMissing_}) {
+        if (!missing->empty()) reasons.push_back(*missing);
+    }
+    if (!latest_) {
+        reasons.push_back("no result yet");
+    } else if (const std::string why = textOf(*latest_, "alarm_reason", textOf(*latest_, "reason", "unknown"));
+               alarmText == "fault" && why != chainMissing_ && why != outputsMissing_ &&
+               why != chainMissing_ + "; " + outputsMissing_) {
+        reasons.push_back("alarm level fault: " + why);
+    }
+    if (latest_ && stale) {
+        reasons.push_back("stale since " + textOf(served, "stale_since", "?") + " (latest ok result " +
+                          textOf(*latest_, "last_ok", "none") + ")");
+    }
+    if (camera_ == CameraState::Offline) reasons.push_back("camera offline: " + cameraDetail_);
+    if (latestWriteFailed_) reasons.push_back(storageFault_);
     std::string status = "ok";
-    if (alarmText == "fault" || camera_ == CameraState::Offline || stale || latestWriteFailed_) {
+    if (alarmText == "fault" || camera_ == CameraState::Offline || stale || latestWriteFailed_ ||
+        !chainMissing_.empty() || !outputsMissing_.empty()) {
         status = "fault";
     } else if (camera_ == CameraState::Degraded || (latest_ && textOf(*latest_, "status", "") != "ok") ||
                !storageFault_.empty() || !historyRecovery.empty()) {
@@ -530,6 +667,7 @@ nlohmann::json Daemon::health() const {
     };
     return {
         {"status", status},
+        {"reasons", reasons},
         {"alarm", alarmText},
         {"camera", toString(camera_)},
         {"camera_detail", cameraDetail_.empty() ? nlohmann::json(nullptr) : nlohmann::json(cameraDetail_)},

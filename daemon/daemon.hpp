@@ -3,6 +3,7 @@
 #include <atomic>
 #include <condition_variable>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -34,10 +35,22 @@ struct DaemonOptions {
 
 // The parts the daemon composes; the tests pass doubles. outputs may be null (--once: SCADA lines
 // belong to the running service).
+//
+// A first start may lack the calibration or the GPIO chip. A chain or outputs left null with its
+// factory set is made by the factory (which throws Error saying what is missing) at once, again
+// on SIGHUP and every daemon.camera_check_s; until then the service runs, serves its interfaces
+// and reports the level fault with that reason, instead of exiting into a restart loop.
 struct DaemonParts {
+    DaemonParts() = default;
+    DaemonParts(std::unique_ptr<FrameSource> s, std::unique_ptr<MeasurementChain> c,
+                std::unique_ptr<gpio::ScadaOutputs> o)
+        : source(std::move(s)), chain(std::move(c)), outputs(std::move(o)) {}
+
     std::unique_ptr<FrameSource> source;
     std::unique_ptr<MeasurementChain> chain;
     std::unique_ptr<gpio::ScadaOutputs> outputs;
+    std::function<std::unique_ptr<MeasurementChain>()> makeChain;
+    std::function<std::unique_ptr<gpio::ScadaOutputs>()> openOutputs;
 };
 
 // icewatchd's service loop: measures every daemon.interval_s and on request, watches the camera
@@ -81,6 +94,7 @@ public:
     // The level when the current result shows ice (warning or alarm), else nullopt.
     std::optional<std::string> iceShown() const;
     TimePoint now() const { return clock_.now(); }
+    const std::string& version() const { return options_.version; }
     alarm::AlarmLevel alarmLevel() const;
     const std::filesystem::path& stateDir() const { return stateDir_; }
 
@@ -97,8 +111,16 @@ private:
     void captureBaseline(const std::string& who);
     void restorePreviousBaseline(const std::string& who);
     void resetAlarm();
+    // daemon.max_refused_s: true when the level became fault just now for want of an ok result.
+    bool faultIfUnmeasured(TimePoint now);
+    // The latest result again with the alarm level as it is now (a reset, a fault by age).
+    void republishAlarm();
     void reload();
     void loadStoredBaseline();
+    // Makes the parts a first start lacked; requests a measurement when the last one arrives.
+    void completeParts();
+    // Why the service cannot measure or signal yet ("no calibration: ...; no GPIO chip ..."), or "".
+    std::string missingParts() const;
     // Applies the alarm level and writes everything out; returns the result as published.
     CycleResult publish(CycleResult result, const ChainPictures& pictures, bool toHistory);
     void progress();
@@ -113,6 +135,7 @@ private:
     StateDirLock lock_;
     History history_;
     alarm::AlarmStateMachine alarm_;
+    std::optional<TimePoint> lastOk_;  // the latest ok result's time; loop thread only
 
     mutable std::mutex mutex_;
     std::condition_variable wake_;
@@ -122,6 +145,8 @@ private:
     std::optional<nlohmann::json> latest_;
     CameraState camera_ = CameraState::Offline;
     std::string cameraDetail_;
+    std::string chainMissing_;    // why parts_.chain is still null; guarded by mutex_
+    std::string outputsMissing_;  // why parts_.outputs is still null; guarded by mutex_
     TimePoint nextCycle_{};
     TimePoint nextCheck_{};     // loop thread only
     bool scheduled_ = false;    // loop thread only

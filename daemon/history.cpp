@@ -5,6 +5,7 @@
 
 #include <sqlite3.h>
 
+#include <iterator>
 #include <sstream>
 
 #include "core/common/error.hpp"
@@ -34,14 +35,19 @@ CREATE TABLE IF NOT EXISTS results (
     quality TEXT NOT NULL,
     timings_ms TEXT NOT NULL,
     version TEXT NOT NULL,
-    config_sha256 TEXT NOT NULL
+    config_sha256 TEXT NOT NULL,
+    alarm_reason TEXT,
+    last_ok TEXT
 );
 CREATE INDEX IF NOT EXISTS results_time ON results(time_unix);
 )";
 
 constexpr const char* kColumns =
     "schema, time, status, reason, volume_mm3, uncertainty_mm3, mean_thickness_mm, max_thickness_mm, "
-    "valid_percent, alarm, camera, quality, timings_ms, version, config_sha256";
+    "valid_percent, alarm, camera, quality, timings_ms, version, config_sha256, alarm_reason, last_ok";
+
+// Columns added since the first layout, which a history written before lacks (its rows read null).
+constexpr const char* kAddedColumns[] = {"alarm_reason", "last_ok"};
 
 // Finalises a statement however the function is left.
 struct Statement {
@@ -126,6 +132,14 @@ bool History::setUp(std::string& why) {
     // not at the first insert hours later.
     const std::string setup = std::string("PRAGMA journal_mode=WAL; PRAGMA synchronous=NORMAL;") + kSchema;
     bool ok = sqlite3_exec(db_, setup.c_str(), nullptr, nullptr, &message) == SQLITE_OK;
+    for (const char* column : kAddedColumns) {
+        Statement probe;
+        const std::string select = std::string("SELECT ") + column + " FROM results LIMIT 0";
+        if (ok && sqlite3_prepare_v2(db_, select.c_str(), -1, &probe.stmt, nullptr) != SQLITE_OK) {
+            const std::string add = std::string("ALTER TABLE results ADD COLUMN ") + column + " TEXT";
+            ok = sqlite3_exec(db_, add.c_str(), nullptr, nullptr, &message) == SQLITE_OK;
+        }
+    }
     if (ok) {
         Statement check;
         ok = sqlite3_prepare_v2(db_, "PRAGMA quick_check", -1, &check.stmt, nullptr) == SQLITE_OK &&
@@ -192,7 +206,7 @@ int History::insert(const CycleResult& r) {
     const nlohmann::json doc = toJson(r);
     Statement s;
     const std::string sql = std::string("INSERT INTO results (time_unix, ") + kColumns +
-                            ") VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16)";
+                            ") VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16, ?17, ?18)";
     if (const int rc = sqlite3_prepare_v2(db_, sql.c_str(), -1, &s.stmt, nullptr); rc != SQLITE_OK) {
         log::get("history")->error("{}: cannot prepare insert: {}", file_.string(), sqlite3_errmsg(db_));
         return rc;
@@ -220,6 +234,14 @@ int History::insert(const CycleResult& r) {
     sqlite3_bind_text(s.stmt, 14, timings.c_str(), -1, SQLITE_TRANSIENT);
     sqlite3_bind_text(s.stmt, 15, r.version.c_str(), -1, SQLITE_TRANSIENT);
     sqlite3_bind_text(s.stmt, 16, r.configSha256.c_str(), -1, SQLITE_TRANSIENT);
+    const std::string lastOk = r.lastOk ? formatIsoUtc(*r.lastOk) : std::string();
+    for (const auto& [index, text] : {std::pair<int, const std::string*>{17, &r.alarmReason}, {18, &lastOk}}) {
+        if (text->empty()) {
+            sqlite3_bind_null(s.stmt, index);
+        } else {
+            sqlite3_bind_text(s.stmt, index, text->c_str(), -1, SQLITE_TRANSIENT);
+        }
+    }
     const int rc = sqlite3_step(s.stmt);
     if (rc != SQLITE_DONE) {
         log::get("history")->error("{}: cannot insert a row: {}", file_.string(), sqlite3_errmsg(db_));
@@ -259,11 +281,11 @@ std::vector<nlohmann::json> History::since(std::chrono::system_clock::time_point
     static const char* kNames[] = {"schema", "time",          "status",           "reason",           "volume_mm3",
                                    "uncertainty_mm3", "mean_thickness_mm", "max_thickness_mm", "valid_percent",
                                    "alarm",  "camera",        "quality",          "timings_ms",       "version",
-                                   "config_sha256"};
+                                   "config_sha256", "alarm_reason", "last_ok"};
     int rc = SQLITE_ROW;
     while ((rc = sqlite3_step(s.stmt)) == SQLITE_ROW) {
         nlohmann::json row = nlohmann::json::object();
-        for (int i = 0; i < 15; ++i) {
+        for (int i = 0; i < static_cast<int>(std::size(kNames)); ++i) {
             row[kNames[i]] = columnJson(s.stmt, i);
         }
         for (const char* nested : {"quality", "timings_ms"}) {

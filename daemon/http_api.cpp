@@ -24,6 +24,23 @@ namespace {
 constexpr int kDefaultHistoryLimit = 1000;
 constexpr int kMaxHistoryLimit = 100000;
 
+struct Endpoint {
+    const char* method;
+    const char* path;
+    const char* what;
+};
+// What GET / lists; POSTs need the bearer token and take no body.
+constexpr Endpoint kEndpoints[] = {
+    {"GET", "/v1/latest", "the latest result, with stale and stale_since"},
+    {"GET", "/v1/health", "the service's health; 503 on a fault or a stale result, reasons say why"},
+    {"GET", "/v1/history?since=ISO&limit=N", "results since a time (default: the last 24 h)"},
+    {"GET", "/v1/images/latest/{left,disparity,thickness}.png", "pictures of the latest measurement"},
+    {"POST", "/v1/measure", "measure now (token)"},
+    {"POST", "/v1/baseline[?force=1]", "capture a new clean-blade baseline (token)"},
+    {"POST", "/v1/baseline/restore", "go back to the previous baseline (token)"},
+    {"POST", "/v1/alarm/reset", "reset a latched alarm (token)"},
+};
+
 void sendJson(httplib::Response& res, int status, const nlohmann::json& body) {
     res.status = status;
     res.set_content(body.dump(2) + "\n", "application/json");
@@ -108,6 +125,15 @@ HttpApi::~HttpApi() {
 
 void HttpApi::route() {
     httplib::Server& s = *server_;
+
+    // A person or a script arriving at the bare address learns what there is.
+    s.Get("/", [this](const httplib::Request&, httplib::Response& res) {
+        nlohmann::json endpoints = nlohmann::json::array();
+        for (const auto& [method, path, what] : kEndpoints) {
+            endpoints.push_back({{"method", method}, {"path", path}, {"what", what}});
+        }
+        sendJson(res, 200, {{"name", "icewatchd"}, {"version", daemon_.version()}, {"endpoints", endpoints}});
+    });
 
     s.Get("/v1/latest", [this](const httplib::Request&, httplib::Response& res) {
         if (const auto latest = daemon_.latest()) {

@@ -12,6 +12,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <cctype>
 #include <chrono>
 #include <cstring>
 #include <string_view>
@@ -52,6 +53,10 @@ public:
     bool is_writable() const override { return wait(POLLOUT); }
 
     ssize_t read(char* ptr, std::size_t size) override {
+        // RFC 9112 6.3: a request with neither Content-Length nor Transfer-Encoding has no body.
+        // httplib would otherwise read one until the client closes, which `curl -X POST` never
+        // does: it waited out the deadline and answered 400.
+        if (headDone_ && !bodyAnnounced_) return 0;
         if (!headDone_) {
             if (headBytes_ >= kHttpMaxHeadBytes) return -1;
             size = std::min(size, kHttpMaxHeadBytes - headBytes_);
@@ -97,9 +102,12 @@ private:
     void noteHead(std::string_view bytes) {
         for (char c : bytes) {
             ++headBytes_;
+            head_ += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
             tail_ = (tail_ << 8) | static_cast<unsigned char>(c);
             if ((tail_ & 0xffffffffu) == 0x0d0a0d0au) {
                 headDone_ = true;
+                bodyAnnounced_ = head_.find("\ncontent-length:") != std::string::npos ||
+                                 head_.find("\ntransfer-encoding:") != std::string::npos;
                 return;  // a read that ran past the head holds body bytes: not head bytes
             }
         }
@@ -109,6 +117,8 @@ private:
     Clock::time_point deadline_;
     std::size_t headBytes_ = 0;
     bool headDone_ = false;
+    bool bodyAnnounced_ = false;
+    std::string head_;  // lower case; at most kHttpMaxHeadBytes
     std::uint32_t tail_ = 0;
 };
 

@@ -85,6 +85,11 @@ int failSafeOutputs(const std::string& configFile) {
         log::get("daemon")->error("{}; dropping the outputs of the default gpio settings (chip {}, lines {} and {})",
                                   problem, gpio.chip, gpio.alarmLine, gpio.healthyLine);
     }
+    if (const auto missing = daemon::missingGpioChip(gpio)) {
+        // No chip, no driver: nothing can hold a line energised (a box without its I/O board).
+        log::get("daemon")->warn("{}: no line is energised", *missing);
+        return kExitOk;
+    }
     if (!gpio::openScadaOutputs(gpio)->failSafe()) {
         throw Error(kExitUnavailable, "could not drop every output line of chip " + gpio.chip);
     }
@@ -113,8 +118,14 @@ int serve(const std::string& configFile, const std::string& stateDir, bool once,
         return ensureToken(config);
     }
     daemon::DaemonOptions options{configFile, daemon::sha256OfFile(configFile).value_or(""), ICEWATCH_VERSION};
-    daemon::DaemonParts parts{daemon::makeFrameSource(config), daemon::makeMeasurementChain(config),
-                              once ? nullptr : gpio::openScadaOutputs(config.gpio)};
+    // The calibration and the GPIO chip may be missing on a first start: the daemon reports that
+    // and retries (DaemonParts), rather than exiting into systemd's restart loop.
+    daemon::DaemonParts parts;
+    parts.source = daemon::makeFrameSource(config);
+    parts.makeChain = [&config] { return daemon::makeMeasurementChain(config); };
+    if (!once) {
+        parts.openOutputs = [&config] { return daemon::openAlarmOutputs(config.gpio); };
+    }
     daemon::SystemClock clock;
     daemon::SystemdNotifier notifier;
     // With Modbus on, the loop's watchdog pings also drive the heartbeat register.

@@ -164,6 +164,11 @@ void readDaemon(Section s, DaemonConfig& daemon) {
         s.reject("min_frames", "must not exceed burst_frames or baseline_frames");
     }
     s.read("camera_check_s", daemon.cameraCheckS, 1, 3600);
+    s.read("max_refused_s", daemon.maxRefusedS, 0, 7 * 86400);
+    if (daemon.maxRefusedS != 0 && daemon.maxRefusedS < daemon.intervalS) {
+        // Shorter than a cycle, every ok result would age into a fault before the next one came.
+        s.fail("max_refused_s", "must be 0 (three intervals) or at least interval_s");
+    }
     s.read("state_dir", daemon.stateDir);
     if (daemon.stateDir.empty()) {
         s.reject("state_dir", "must not be empty");
@@ -245,6 +250,10 @@ void readPictures(Section s, pictures::PictureScale& scale) {
 }
 
 }  // namespace
+
+int maxRefusedS(const DaemonConfig& daemon) {
+    return daemon.maxRefusedS > 0 ? daemon.maxRefusedS : 3 * daemon.intervalS;
+}
 
 bool isLoopbackAddress(const std::string& address) {
     return address == "localhost" || address == "::1" || address == "[::1]" || address.rfind("127.", 0) == 0;

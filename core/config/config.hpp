@@ -58,9 +58,13 @@ struct DaemonConfig {
     int baselineFrames = 32;             // frames averaged into the baseline (commissioning is not in a hurry)
     int minFrames = 8;                   // healthy, still frames the average needs
     int cameraCheckS = 5;                // camera health is looked at this often between cycles
+    int maxRefusedS = 0;                 // this long without an ok result is a fault; 0: three intervals
     std::string stateDir = "/var/lib/icewatch";
     ImageHealthConfig health;
 };
+
+// daemon.max_refused_s as it applies: 0 stands for three measurement intervals.
+int maxRefusedS(const DaemonConfig& daemon);
 
 // Levels none / warning / alarm on one metric, each with set and clear thresholds (hysteresis).
 struct AlarmConfig {

@@ -427,5 +427,153 @@ TEST(Daemon, OneDaemonPerStateDirectory) {
     }
 }
 
+
+namespace never_silent {
+
+// The line states SCADA reads after a series of transitions (both start de-energised).
+std::pair<bool, bool> alarmAndHealthy(const std::vector<LineTransition>& transitions) {
+    bool alarm = false, healthy = false;
+    for (const auto& t : transitions) (t.line == "alarm" ? alarm : healthy) = t.energised;
+    return {alarm, healthy};
+}
+
+// Publications as the SCADA interfaces receive them.
+struct RecordingSink : scada::PublicationSink {
+    void published(const scada::Publication& p) override { seen.push_back(p); }
+    std::vector<scada::Publication> seen;
+};
+
+std::vector<std::string> alarmsOf(const std::vector<nlohmann::json>& rows) {
+    std::vector<std::string> alarms;
+    for (const auto& row : rows) alarms.push_back(row["alarm"]);
+    return alarms;
+}
+
+TEST(Daemon, CleanThenIcedButRefusedLongerThanMaxRefusedIsAFault) {
+    // One clean reading, then the ice grows and every cycle is refused.
+    Rig rig({}, icewatch::test::freshTempDir(), [](ScriptedChain& c) {
+        c.script = [](int call, const StereoPair&) {
+            return call == 1 ? okResult(0.0) : refusedResult("the motion between the captures is not observable");
+        };
+    });
+    rig.daemon->runUntil(rig.at(1201));
+    EXPECT_EQ(alarmsOf(rig.daemon->history(testEpoch(), 100)), (std::vector<std::string>{"none", "none", "none"}))
+        << "within max_refused_s (three intervals) a refusal keeps the level";
+    EXPECT_EQ(alarmAndHealthy(rig.transitions()), std::make_pair(true, true));
+    EXPECT_FALSE((*rig.daemon->latest())["stale"].get<bool>());
+
+    rig.daemon->runUntil(rig.at(1801));
+    EXPECT_EQ(alarmsOf(rig.daemon->history(testEpoch(), 100)),
+              (std::vector<std::string>{"none", "none", "none", "fault"}));
+    const nlohmann::json doc = rig.latestFile();
+    EXPECT_EQ(doc["status"], "refused");
+    EXPECT_EQ(doc["alarm"], "fault");
+    EXPECT_EQ(doc["last_ok"], "2026-01-01T00:00:00Z");
+    EXPECT_NE(doc["alarm_reason"].get<std::string>().find("no ok result since 2026-01-01T00:00:00Z"),
+              std::string::npos)
+        << doc["alarm_reason"];
+    EXPECT_EQ(alarmAndHealthy(rig.transitions()), std::make_pair(false, false)) << "both lines drop, as for a fault";
+    const nlohmann::json served = *rig.daemon->latest();
+    EXPECT_TRUE(served["stale"].get<bool>());
+    EXPECT_EQ(served["stale_since"], "2026-01-01T00:30:00Z");
+    const nlohmann::json health = rig.daemon->health();
+    EXPECT_EQ(health["status"], "fault");
+    EXPECT_NE(health["reasons"].dump().find("no ok result since"), std::string::npos) << health["reasons"];
+}
+
+TEST(Daemon, RefusedThenOkTheLevelFollowsTheMeasurement) {
+    Rig rig({}, icewatch::test::freshTempDir(), [](ScriptedChain& c) {
+        c.script = [](int call, const StereoPair&) {
+            if (call == 1) return okResult(250.0);
+            if (call <= 4) return refusedResult("current image blurred or without texture");
+            return okResult(120.0);
+        };
+    });
+    rig.daemon->runUntil(rig.at(2401));
+    // Ice at 250 (alarm): refusals never lower it, the fourth cycle without a volume is a fault,
+    // and the next volume sets the level again (120: warning, no hold times in the test config).
+    EXPECT_EQ(alarmsOf(rig.daemon->history(testEpoch(), 100)),
+              (std::vector<std::string>{"alarm", "alarm", "alarm", "fault", "warning"}));
+    const nlohmann::json served = *rig.daemon->latest();
+    EXPECT_EQ(served["alarm"], "warning");
+    EXPECT_TRUE(served["alarm_reason"].is_null());
+    EXPECT_EQ(served["last_ok"], "2026-01-01T00:40:00Z");
+    EXPECT_FALSE(served["stale"].get<bool>());
+    EXPECT_TRUE(served["stale_since"].is_null());
+    EXPECT_EQ(alarmAndHealthy(rig.transitions()), std::make_pair(true, true));
+}
+
+TEST(Daemon, TheFaultComesAtMaxRefusedSEvenBetweenCyclesAndReachesScada) {
+    Rig rig([](config::Config& c) { c.daemon.maxRefusedS = 900; }, icewatch::test::freshTempDir(),
+            [](ScriptedChain& c) {
+                c.script = [](int call, const StereoPair&) {
+                    return call == 1 ? okResult(0.0) : refusedResult("12 % valid disparities in the region");
+                };
+            });
+    RecordingSink sink;
+    rig.daemon->setPublicationSink(&sink);
+    rig.daemon->runUntil(rig.at(899));
+    EXPECT_EQ(rig.latestFile()["alarm"], "none");
+    rig.daemon->runUntil(rig.at(901));
+    EXPECT_EQ(rig.daemon->history(testEpoch(), 100).size(), 2u) << "no cycle ran at 900 s";
+    const nlohmann::json doc = rig.latestFile();
+    EXPECT_EQ(doc["time"], "2026-01-01T00:10:00Z");
+    EXPECT_EQ(doc["alarm"], "fault");
+    EXPECT_NE(doc["alarm_reason"].get<std::string>().find("max_refused_s 900 s"), std::string::npos);
+    ASSERT_FALSE(sink.seen.empty());
+    EXPECT_EQ(sink.seen.back().document["alarm"], "fault") << "Modbus and MQTT are told as for any level";
+    EXPECT_FALSE(sink.seen.back().newResult);
+    EXPECT_EQ(alarmAndHealthy(rig.transitions()), std::make_pair(false, false));
+    EXPECT_TRUE((*rig.daemon->latest())["stale"].get<bool>());
+    EXPECT_EQ((*rig.daemon->latest())["stale_since"], "2026-01-01T00:15:00Z");
+}
+
+TEST(Daemon, FirstStartWithoutCalibrationOrGpioChipRunsReportsAndRetries) {
+    const auto dir = icewatch::test::freshTempDir();
+    ManualClock clock(testEpoch());
+    config::Config config = testConfig(dir);
+    auto gpioLog = std::make_shared<gpio::TransitionLog>();
+    bool calibrated = false, chipThere = false;
+    int chainAttempts = 0;
+    DaemonParts parts;
+    parts.source = std::make_unique<ScriptedSource>();
+    parts.makeChain = [&]() -> std::unique_ptr<MeasurementChain> {
+        ++chainAttempts;
+        if (!calibrated) throw Error(kExitNoInput, "no calibration: run icewatch calibrate --out /etc/icewatch/c.yaml");
+        return std::make_unique<ScriptedChain>();
+    };
+    parts.openOutputs = [&] {
+        if (!chipThere) throw Error(kExitUnavailable, "no GPIO chip gpiochip0");
+        return gpio::openScadaOutputs(config.gpio, gpioLog);
+    };
+    Daemon daemon(config, DaemonOptions{{}, "cafe", "v"}, clock, std::move(parts));
+    daemon.runUntil(testEpoch() + std::chrono::seconds(1));
+    nlohmann::json latest = *daemon.latest();
+    EXPECT_EQ(latest["status"], "fault");
+    EXPECT_EQ(latest["alarm"], "fault");
+    EXPECT_EQ(latest["reason"], "no calibration: run icewatch calibrate --out /etc/icewatch/c.yaml; no GPIO chip gpiochip0");
+    nlohmann::json health = daemon.health();
+    EXPECT_EQ(health["status"], "fault");
+    EXPECT_EQ(health["reasons"][0], "no calibration: run icewatch calibrate --out /etc/icewatch/c.yaml");
+    EXPECT_EQ(health["reasons"][1], "no GPIO chip gpiochip0");
+
+    const int attempts = chainAttempts;
+    daemon.runUntil(testEpoch() + std::chrono::seconds(11));
+    EXPECT_EQ(chainAttempts, attempts + 2) << "retried every camera_check_s (5 s)";
+    EXPECT_TRUE(gpioLog->transitions().empty());
+
+    // Installed, then SIGHUP: both arrive at once and a real measurement clears the fault.
+    calibrated = chipThere = true;
+    daemon.requestReload();
+    daemon.runUntil(testEpoch() + std::chrono::seconds(12));
+    latest = *daemon.latest();
+    EXPECT_EQ(latest["status"], "ok");
+    EXPECT_EQ(latest["alarm"], "alarm") << "the scripted chain's 1000 mm³";
+    EXPECT_EQ(daemon.health()["reasons"], nlohmann::json::array());
+    EXPECT_EQ(alarmAndHealthy(gpioLog->transitions()), std::make_pair(false, true));
+}
+
+}  // namespace never_silent
+
 }  // namespace
 }  // namespace icewatch::daemon::test

@@ -1,6 +1,7 @@
 #include "daemon/http_api.hpp"
 
 #include <arpa/inet.h>
+#include <algorithm>
 #include <poll.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
@@ -28,8 +29,8 @@ nlohmann::json body(const httplib::Result& r) {
     return nlohmann::json::parse(r->body, nullptr, false);
 }
 
-// Sends raw bytes and returns the first line of the answer.
-std::string rawExchange(int port, const std::string& request) {
+// A TCP connection to the API on loopback, or -1.
+int connectTo(int port) {
     const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
     sockaddr_in addr{};
     addr.sin_family = AF_INET;
@@ -37,8 +38,15 @@ std::string rawExchange(int port, const std::string& request) {
     addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
     if (::connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) {
         ::close(fd);
-        return "connect failed";
+        return -1;
     }
+    return fd;
+}
+
+// Sends raw bytes and returns the first line of the answer.
+std::string rawExchange(int port, const std::string& request) {
+    const int fd = connectTo(port);
+    if (fd < 0) return "connect failed";
     (void)!::write(fd, request.data(), request.size());
     ::shutdown(fd, SHUT_WR);
     std::string answer;
@@ -306,6 +314,72 @@ TEST(HttpApi, PicturesOfARefusedCycle) {
     EXPECT_EQ(served.at<cv::Vec3b>(0, 0), cv::Vec3b(40, 50, 60));
 }
 
+// Sends raw bytes, keeps the connection open as curl does, and returns the status line of the
+// answer ("" when none came within the guard).
+std::string rawRequestKeptOpen(int port, const std::string& request) {
+    const int fd = connectTo(port);
+    std::string answer;
+    if (fd >= 0) {
+        (void)!::write(fd, request.data(), request.size());
+        pollfd p{fd, POLLIN, 0};
+        char buffer[4096];
+        ssize_t n = 0;
+        while (answer.find("\r\n") == std::string::npos && ::poll(&p, 1, 30000) == 1 &&
+               (n = ::read(fd, buffer, sizeof buffer)) > 0) {
+            answer.append(buffer, static_cast<std::size_t>(n));
+        }
+        ::close(fd);
+    }
+    return answer.substr(0, answer.find("\r\n"));
+}
+
+TEST(HttpApi, APostWithoutABodyOrContentLengthIsAccepted) {
+    Api api([](config::Config& c) { c.http.token = "s3cret"; });
+    // What `curl -X POST -H "Authorization: Bearer ..." .../v1/measure` sends: no Content-Length,
+    // and the connection stays open for the answer.
+    const std::string status = rawRequestKeptOpen(
+        api.http.port(), "POST /v1/measure HTTP/1.1\r\nHost: 127.0.0.1\r\nAuthorization: Bearer s3cret\r\n"
+                         "User-Agent: curl/7.88.1\r\nAccept: */*\r\n\r\n");
+    EXPECT_EQ(status, "HTTP/1.1 202 Accepted");
+    // An announced body is still read as before.
+    auto r = api.client.Post("/v1/alarm/reset", httplib::Headers{{"Authorization", "Bearer s3cret"}}, "{}",
+                             "application/json");
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 202);
+}
+
+TEST(HttpApi, TheRootListsTheEndpointsAndTheVersion) {
+    Api api;
+    auto r = api.client.Get("/");
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 200);
+    EXPECT_EQ(r->get_header_value("Content-Type"), "application/json");
+    const auto doc = body(r);
+    EXPECT_EQ(doc["version"], "test-version");
+    std::vector<std::string> paths;
+    for (const auto& e : doc["endpoints"]) paths.push_back(e["method"].get<std::string>() + " " + e["path"].get<std::string>());
+    for (const char* expected : {"GET /v1/latest", "GET /v1/health", "POST /v1/measure", "POST /v1/alarm/reset"}) {
+        EXPECT_NE(std::find(paths.begin(), paths.end(), expected), paths.end()) << expected;
+    }
+}
+
+TEST(HttpApi, HealthIs503WhileTheResultIsStaleAndSaysSince) {
+    Api api;
+    api.rig.daemon->runOnce();
+    auto r = api.client.Get("/v1/health");
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 200);
+    EXPECT_EQ(body(r)["reasons"], nlohmann::json::array());
+    api.rig.clock.advance(std::chrono::seconds(1201));  // no cycle ran: the loop is not running
+    r = api.client.Get("/v1/health");
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 503);
+    const auto health = body(r);
+    EXPECT_EQ(health["alarm"], "alarm") << "the level itself is not fault: staleness alone is enough";
+    EXPECT_EQ(health["reasons"][0], "stale since 2026-01-01T00:20:00Z (latest ok result 2026-01-01T00:00:00Z)")
+        << health["reasons"];
+}
+
 TEST(HttpApi, HealthSaysWhatIsWrong) {
     Api api;
     api.rig.source->plugged = false;
@@ -317,6 +391,7 @@ TEST(HttpApi, HealthSaysWhatIsWrong) {
     EXPECT_EQ(health["status"], "fault");
     EXPECT_EQ(health["camera"], "offline");
     EXPECT_EQ(health["alarm"], "fault");
+    EXPECT_NE(health["reasons"].dump().find("camera offline"), std::string::npos) << health["reasons"];
     EXPECT_EQ(health["version"], "test-version");
 }
 

@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include <fstream>
+#include <functional>
 #include <cstring>
 #include <thread>
 
@@ -278,6 +279,50 @@ TEST(Icewatchd, ComesThroughUnplugStallAndCorruptFramesOfTheCamera) {
     EXPECT_EQ(latest["alarm"], "none") << latest;
 }
 
+TEST(Icewatchd, FirstStartWithoutCalibrationOrGpioChip) {
+    const auto dir = icewatch::test::freshTempDir();
+    const auto configFile = dir / "icewatch.json";
+    nlohmann::json config = nlohmann::json::parse(configText(dir));
+    const auto calibration = dir / "installed-later.yaml";
+    config["calibration"]["file"] = calibration.string();
+    config["gpio"]["chip"] = "gpiochip193";  // no such device on this machine
+    std::ofstream(configFile) << config.dump(2);
+    Process daemon(dir, {"--config", configFile.string()});
+    const std::string ready = daemon.awaitNotify("READY=1");
+    ASSERT_FALSE(ready.empty()) << "it did not come up";
+    httplib::Client client("127.0.0.1", portFrom(ready));
+    const auto healthUntil = [&](const std::function<bool(const nlohmann::json&)>& done) {
+        nlohmann::json h;
+        for (int waited = 0; waited < kGuardMs; waited += 20) {
+            if (auto r = client.Get("/v1/health"); r && r->status == 503) {
+                h = nlohmann::json::parse(r->body, nullptr, false);
+                if (h.is_object() && done(h)) break;
+            }
+            std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        }
+        return h;
+    };
+    nlohmann::json h = healthUntil([](const nlohmann::json& j) { return !j["last_result"].is_null(); });
+    ASSERT_TRUE(h.is_object());
+    const std::string reasons = h["reasons"].dump();
+    EXPECT_NE(reasons.find("no calibration: run icewatch calibrate"), std::string::npos) << reasons;
+    EXPECT_NE(reasons.find("--out " + calibration.string()), std::string::npos) << reasons;
+    EXPECT_NE(reasons.find("no GPIO chip gpiochip193"), std::string::npos) << reasons;
+    EXPECT_EQ(h["alarm"], "fault");
+    auto latest = client.Get("/v1/latest");
+    ASSERT_TRUE(latest);
+    EXPECT_EQ(nlohmann::json::parse(latest->body)["status"], "fault");
+
+    calib::saveCalibration(calibration, calib::nominalCalibration({1280, 720}, 80.0, 60.0));
+    daemon.signal(SIGHUP);
+    h = healthUntil([](const nlohmann::json& j) { return j["reasons"].dump().find("no calibration") == std::string::npos; });
+    EXPECT_EQ(h["reasons"].dump().find("no calibration"), std::string::npos) << h["reasons"];
+    EXPECT_NE(h["reasons"].dump().find("no GPIO chip gpiochip193"), std::string::npos) << "still no chip";
+
+    daemon.signal(SIGTERM);
+    EXPECT_EQ(daemon.awaitExit(), 0) << "it never exited on its own";
+}
+
 TEST(Icewatchd, FailSafeOutputsDropTheLinesWhateverElseTheFileGetsWrong) {
     const auto dir = icewatch::test::freshTempDir();
     const auto configFile = dir / "icewatch.json";
@@ -294,13 +339,21 @@ TEST(Icewatchd, FailSafeOutputsDropTheLinesWhateverElseTheFileGetsWrong) {
               std::string::npos)
         << run.err;
     // A file that is not even JSON (a number no double holds): the compiled-in gpio settings are
-    // dropped; there is no gpiochip0 here, so that fails as unavailable (69), not as a config error.
+    // dropped, never a config error.
     std::filesystem::copy_file(icewatch::test::sourceDir() / "tests/core/config/bad-inputs/overflow.json", configFile,
                                std::filesystem::copy_options::overwrite_existing);
     run = failSafe();
     EXPECT_NE(run.err.find("dropping the outputs of the default gpio settings (chip gpiochip0"), std::string::npos)
         << run.err;
     EXPECT_NE(run.status, 78) << run.err;
+    // A chip that does not exist holds no line energised: that is success, so the unit's
+    // ExecStopPost does not mark every stop of a box without its I/O board as failed.
+    std::ofstream(configFile) << R"({"gpio": {"chip": "gpiochip193"}})";
+    run = failSafe();
+    EXPECT_EQ(run.status, 0) << run.err;
+    EXPECT_NE(run.err.find("no GPIO chip gpiochip193 (/dev/gpiochip193 does not exist; gpio.chip): no line is energised"),
+              std::string::npos)
+        << run.err;
 }
 
 TEST(Icewatchd, EnsureTokenMakesAPrivateTokenFileOnce) {

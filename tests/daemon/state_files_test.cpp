@@ -5,6 +5,8 @@
 
 #include <fstream>
 
+#include <sqlite3.h>
+
 #include <gtest/gtest.h>
 
 #include "core/common/error.hpp"
@@ -87,12 +89,16 @@ TEST(History, RowsCarryTheResultFields) {
     r.timingsMs = {{"grab", 3.5}};
     r.version = "1.2.3";
     r.configSha256 = "abc";
+    r.alarmReason = "no ok result since 2025-12-31T23:00:00Z";
+    r.lastOk = testEpoch() - std::chrono::hours(1);
     {
         History history(dir / "h.sqlite");
         ASSERT_TRUE(history.append(r));
         r.time += std::chrono::minutes(10);
         r.status = CycleStatus::Ok;
         r.reason.clear();
+        r.alarmReason.clear();
+        r.lastOk = r.time;
         r.volumeMm3 = 1234.5;
         r.uncertaintyMm3 = 50;
         r.meanThicknessMm = 1.5;
@@ -108,6 +114,8 @@ TEST(History, RowsCarryTheResultFields) {
                   first.time = testEpoch();
                   first.status = CycleStatus::Refused;
                   first.reason = "fog, \"thick\"";
+                  first.alarmReason = "no ok result since 2025-12-31T23:00:00Z";
+                  first.lastOk = testEpoch() - std::chrono::hours(1);
                   first.volumeMm3.reset();
                   first.uncertaintyMm3.reset();
                   first.meanThicknessMm.reset();
@@ -124,6 +132,38 @@ TEST(History, RowsCarryTheResultFields) {
               "2026-01-01T00:00:00Z,refused,\"fog, \"\"thick\"\"\",,,,,,warning,degraded,low_contrast: frame 1 left: "
               "grey-level deviation 2.0 below 6.0,1.2.3,abc");
     EXPECT_THROW(History(dir / "missing.sqlite", History::Mode::ReadOnly), Error);
+}
+
+TEST(History, AHistoryOfTheFirstLayoutGainsTheNewColumns) {
+    const auto dir = icewatch::test::freshTempDir();
+    const auto file = dir / "h.sqlite";
+    sqlite3* db = nullptr;
+    ASSERT_EQ(sqlite3_open(file.c_str(), &db), SQLITE_OK);
+    // The layout before alarm_reason and last_ok, with one row in it.
+    ASSERT_EQ(sqlite3_exec(db, R"(CREATE TABLE results (id INTEGER PRIMARY KEY, schema INTEGER NOT NULL,
+        time_unix INTEGER NOT NULL, time TEXT NOT NULL, status TEXT NOT NULL, reason TEXT, volume_mm3 REAL,
+        uncertainty_mm3 REAL, mean_thickness_mm REAL, max_thickness_mm REAL, valid_percent REAL,
+        alarm TEXT NOT NULL, camera TEXT NOT NULL, quality TEXT NOT NULL, timings_ms TEXT NOT NULL,
+        version TEXT NOT NULL, config_sha256 TEXT NOT NULL);
+        INSERT INTO results VALUES (1, 1, 1767225600, '2026-01-01T00:00:00Z', 'ok', NULL, 5.0, 1.0, 0.1, 0.2,
+        90.0, 'none', 'ok', '{}', '{}', '0.1.0', 'abc');)",
+                           nullptr, nullptr, nullptr),
+              SQLITE_OK);
+    sqlite3_close(db);
+    History history(file);
+    CycleResult r;
+    r.time = testEpoch() + std::chrono::minutes(10);
+    r.status = CycleStatus::Refused;
+    r.alarmReason = "no ok result since 2026-01-01T00:00:00Z";
+    r.lastOk = testEpoch();
+    ASSERT_TRUE(history.append(r));
+    EXPECT_TRUE(history.recovery().empty()) << "an old layout is not damage";
+    const auto rows = history.since(testEpoch(), 10);
+    ASSERT_EQ(rows.size(), 2u);
+    EXPECT_TRUE(rows[0]["last_ok"].is_null());
+    EXPECT_EQ(rows[0]["volume_mm3"], 5.0);
+    EXPECT_EQ(rows[1]["alarm_reason"], "no ok result since 2026-01-01T00:00:00Z");
+    EXPECT_EQ(rows[1]["last_ok"], "2026-01-01T00:00:00Z");
 }
 
 }  // namespace

@@ -197,6 +197,17 @@ TEST(Config, DaemonSectionsAreValidated) {
     EXPECT_EQ(c.http.token, "s3cret");
 }
 
+TEST(Config, MaxRefusedIsThreeIntervalsUnlessSetAndNeverShorterThanOne) {
+    EXPECT_EQ(maxRefusedS(parseConfig("{}", "test.json").daemon), 1800);
+    EXPECT_EQ(maxRefusedS(parseConfig(R"({"daemon": {"interval_s": 60}})", "test.json").daemon), 180);
+    EXPECT_EQ(maxRefusedS(parseConfig(R"({"daemon": {"interval_s": 60, "max_refused_s": 7200}})", "test.json").daemon),
+              7200);
+    EXPECT_EQ(maxRefusedS(loadConfig(test::sourceDir() / "config" / "icewatch.json").daemon), 1800)
+        << "the shipped file documents the default";
+    EXPECT_EQ(errorOf(R"({"daemon": {"interval_s": 600, "max_refused_s": 300}})"),
+              "test.json: daemon.max_refused_s: must be 0 (three intervals) or at least interval_s");
+}
+
 TEST(Config, ReadsValuesAndComments) {
     const Config c = parseConfig(R"({
         // a comment, as the shipped file has
