@@ -83,6 +83,7 @@ void readVolume(Section s, volume::Parameters& v) {
     s.read("disparity_noise_px", v.disparityNoisePx, 0.0, 10.0);
     s.read("correlation_px", v.correlationPx, 1, 64);
     s.read("subpixel_bias_px", v.subpixelBiasPx, 0.0, 1.0);
+    s.read("track_bias_px", v.trackBiasPx, 0.0, 1.0);
     s.read("edge_uncertainty_px", v.edgeUncertaintyPx, 0.0, 10.0);
     s.read("scale_uncertainty_percent", v.scaleUncertaintyPercent, 0.0, 50.0);
     s.read("coverage_factor", v.coverageFactor, 1.0, 5.0);

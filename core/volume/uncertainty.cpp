@@ -75,6 +75,7 @@ UncertaintyBudget volumeUncertainty(const ThicknessMap& map, const PlaneFrame& p
     UncertaintyBudget b;
     b.noiseMm3 = iceAreaMm2 * pointSigmaMm / std::sqrt(independent);
     b.registrationMm3 = registrationSigma(volumeGradient(map, plane), motion);
+    b.trackingMm3 = p.trackBiasPx * depthPerPxMm * iceAreaMm2;
     b.biasMm3 = p.subpixelBiasPx * depthPerPxMm * iceAreaMm2;
     b.edgeMm3 = p.edgeUncertaintyPx * pixelMm * edgeIntegral(map);
     b.scaleMm3 = 0.01 * p.scaleUncertaintyPercent * std::abs(volumeMm3);
@@ -83,6 +84,7 @@ UncertaintyBudget volumeUncertainty(const ThicknessMap& map, const PlaneFrame& p
 
 double expandedUncertainty(const UncertaintyBudget& b, double coverageFactor) {
     return coverageFactor * std::sqrt(b.noiseMm3 * b.noiseMm3 + b.registrationMm3 * b.registrationMm3 +
+                                      b.trackingMm3 * b.trackingMm3 +
                                       b.biasMm3 * b.biasMm3 + b.edgeMm3 * b.edgeMm3 + b.scaleMm3 * b.scaleMm3);
 }
 

@@ -10,6 +10,7 @@ namespace icewatch::volume {
 struct UncertaintyBudget {
     double noiseMm3 = 0;          // per-point depth noise over the independent samples
     double registrationMm3 = 0;   // the registration's own uncertainty, propagated
+    double trackingMm3 = 0;       // a bias of the texture trackers common to every sample
     double biasMm3 = 0;           // systematic sub-pixel disparity bias
     double edgeMm3 = 0;           // where the ice's edges are
     double scaleMm3 = 0;          // the depth scale and the matcher's response on ice, relative to the volume
@@ -29,6 +30,9 @@ struct ViewGeometry {
 //                 end of the object, or on evidence that is not quite rigid, shows in how it moves
 //                 when a band of the evidence is left out, not in its covariance), through the
 //                 thickness each node would gain from a small motion;
+//   tracking      a disparity-change bias common to every texture track (track_bias_px): the
+//                 registration's covariance and jackknife see the tracks' scatter, not a bias they
+//                 share, and a shared bias moves the whole registered surface along the view;
 //   bias          a systematic sub-pixel disparity bias (subpixel_bias_px) over the ice area;
 //   edge          a shift of σ_e of every edge of height H and length L moves σ_e·H·L, i.e.
 //                 σ_e·∫|∇t|; the noise floor of |∇t| (its median) is taken off so that noise does

@@ -133,6 +133,7 @@ void addVolumeCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunctio
                 out["uncertainty_mm3"] = r.uncertaintyMm3;
                 out["uncertainty_budget_mm3"] = {{"noise", r.budget.noiseMm3},
                                                  {"registration", r.budget.registrationMm3},
+                                                 {"tracking", r.budget.trackingMm3},
                                                  {"bias", r.budget.biasMm3},
                                                  {"edge", r.budget.edgeMm3},
                                                  {"scale", r.budget.scaleMm3}};

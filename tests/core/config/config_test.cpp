@@ -129,6 +129,7 @@ TEST(Config, ShippedFileDocumentsTheDefaults) {
     EXPECT_EQ(v.disparityNoisePx, d.disparityNoisePx);
     EXPECT_EQ(v.correlationPx, d.correlationPx);
     EXPECT_EQ(v.subpixelBiasPx, d.subpixelBiasPx);
+    EXPECT_EQ(v.trackBiasPx, d.trackBiasPx);
     EXPECT_EQ(v.edgeUncertaintyPx, d.edgeUncertaintyPx);
     EXPECT_EQ(v.coverageFactor, d.coverageFactor);
     EXPECT_EQ(v.minValidPercent, d.minValidPercent);
