@@ -26,19 +26,29 @@ double msSince(Steady::time_point start) {
     return std::chrono::duration<double, std::milli>(Steady::now() - start).count();
 }
 
+// A burst is averaged as it is grabbed: each frame joins the sum and is let go, so the daemon's
+// memory does not grow with the burst's length (capture_average.hpp).
 struct Burst {
-    std::vector<cv::Mat> frames;     // side-by-side, as grabbed
-    std::vector<std::string> names;  // "frame 3", for messages
+    volume::CaptureAccumulator average;
     int grabbed = 0;
     bool cameraFailed = false;
     std::string cameraError;
     double grabMs = 0.0;
+    double averageMs = 0.0;  // checking and summing the frames, between the grabs
 };
 
-// Grabs a burst of `count` frames. Returns nullopt when cancelled.
-std::optional<Burst> grabBurst(FrameSource& source, int count, const CancelCheck& cancelled,
-                               const ProgressCallback& progress) {
+volume::CaptureAverageOptions averageOptions(const config::DaemonConfig& config) {
+    volume::CaptureAverageOptions options;
+    options.health = config.health;
+    options.minFrames = config.minFrames;
+    return options;
+}
+
+// Grabs a burst of `count` frames into its average. Returns nullopt when cancelled.
+std::optional<Burst> grabBurst(FrameSource& source, int count, const config::DaemonConfig& config,
+                               const CancelCheck& cancelled, const ProgressCallback& progress) {
     Burst burst;
+    burst.average = volume::CaptureAccumulator(averageOptions(config));
     std::string error;
     if (!source.open(error)) {
         burst.cameraFailed = true;
@@ -59,18 +69,11 @@ std::optional<Burst> grabBurst(FrameSource& source, int count, const CancelCheck
             return burst;
         }
         ++burst.grabbed;
-        burst.frames.push_back(joinSideBySide(pair->left, pair->right));
-        burst.names.push_back("frame " + std::to_string(i));
+        const auto averageStart = Steady::now();
+        burst.average.add(joinSideBySide(pair->left, pair->right), "frame " + std::to_string(i));
+        burst.averageMs += msSince(averageStart);
     }
     return burst;
-}
-
-// The burst's average, its frames checked as capture_average.hpp says.
-volume::AveragedCapture averageBurst(const Burst& burst, const config::DaemonConfig& config) {
-    volume::CaptureAverageOptions options;
-    options.health = config.health;
-    options.minFrames = config.minFrames;
-    return volume::averageCapture(burst.frames, burst.names, options);
 }
 
 std::vector<QualityFlag> qualityFlags(const volume::AveragedCapture& capture) {
@@ -96,7 +99,7 @@ std::optional<CycleOutcome> runMeasurementCycle(FrameSource& source, Measurement
         r.camera = source.health(detail);
         return outcome;
     }
-    std::optional<Burst> burst = grabBurst(source, config.burstFrames, cancelled, progress);
+    std::optional<Burst> burst = grabBurst(source, config.burstFrames, config, cancelled, progress);
     if (!burst) {
         return std::nullopt;
     }
@@ -109,8 +112,8 @@ std::optional<CycleOutcome> runMeasurementCycle(FrameSource& source, Measurement
         return outcome;
     }
     const auto averageStart = Steady::now();
-    const volume::AveragedCapture capture = averageBurst(*burst, config);
-    r.timingsMs["average"] = msSince(averageStart);
+    const volume::AveragedCapture capture = burst->average.finish();
+    r.timingsMs["average"] = burst->averageMs + msSince(averageStart);
     r.framesHealthy = capture.framesHealthy;
     r.framesMeasured = capture.framesUsed;
     r.quality = qualityFlags(capture);
@@ -157,7 +160,7 @@ std::optional<CycleOutcome> runMeasurementCycle(FrameSource& source, Measurement
 BaselineCapture captureBaselinePair(FrameSource& source, MeasurementChain& chain, const config::DaemonConfig& config,
                                     const CancelCheck& cancelled, const ProgressCallback& progress) {
     BaselineCapture capture;
-    std::optional<Burst> burst = grabBurst(source, config.baselineFrames, cancelled, progress);
+    std::optional<Burst> burst = grabBurst(source, config.baselineFrames, config, cancelled, progress);
     if (!burst) {
         capture.reason = "cancelled";
         return capture;
@@ -166,7 +169,7 @@ BaselineCapture captureBaselinePair(FrameSource& source, MeasurementChain& chain
         capture.reason = burst->cameraError;
         return capture;
     }
-    const volume::AveragedCapture averaged = averageBurst(*burst, config);
+    const volume::AveragedCapture averaged = burst->average.finish();
     if (averaged.frame.empty()) {
         capture.reason = "the burst gave no clean capture: " + averaged.reason;
         return capture;

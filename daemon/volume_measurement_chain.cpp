@@ -62,7 +62,7 @@ ChainResult VolumeMeasurementChain::estimate(const StereoPair& current) {
     }
     volume::Surface surface;
     try {
-        surface = chain_.measureSurface(current);
+        surface = chain_.measureSurface(current, *baseline_);
     } catch (const InvalidInput& e) {
         return failure(ChainResult::Status::Failed, e.what());
     }

@@ -365,14 +365,20 @@ Rectifier::Rectifier(const StereoCalibration& c) : imageSize_(c.imageSize) {
                                 rightMap2_);
 }
 
-StereoPair Rectifier::rectify(const StereoPair& pair) const {
+StereoPair Rectifier::rectify(const StereoPair& pair) const { return rectify(pair, cv::Rect({0, 0}, imageSize_)); }
+
+StereoPair Rectifier::rectify(const StereoPair& pair, const cv::Rect& box) const {
     if (pair.left.size() != imageSize_ || pair.right.size() != imageSize_) {
         throw InvalidInput("frame eye size " + sizeText(pair.left.size()) + " does not match the calibration's " +
                            sizeText(imageSize_));
     }
+    if ((box & cv::Rect({0, 0}, imageSize_)) != box || box.empty()) {
+        throw InvalidInput("rectification box lies outside the " + sizeText(imageSize_) + " image");
+    }
+    // The maps are per output pixel: a box of them rectifies that part alone.
     StereoPair out;
-    cv::remap(pair.left, out.left, leftMap1_, leftMap2_, cv::INTER_LINEAR, cv::BORDER_CONSTANT);
-    cv::remap(pair.right, out.right, rightMap1_, rightMap2_, cv::INTER_LINEAR, cv::BORDER_CONSTANT);
+    cv::remap(pair.left, out.left, leftMap1_(box), leftMap2_(box), cv::INTER_LINEAR, cv::BORDER_CONSTANT);
+    cv::remap(pair.right, out.right, rightMap1_(box), rightMap2_(box), cv::INTER_LINEAR, cv::BORDER_CONSTANT);
     return out;
 }
 

@@ -61,6 +61,9 @@ public:
 
     // Throws InvalidInput when an eye's size differs from the calibration's.
     StereoPair rectify(const StereoPair& pair) const;
+    // Only the rectified pixels inside `box` (the same box in both eyes): the result is box-sized,
+    // equal to that part of the whole rectification.
+    StereoPair rectify(const StereoPair& pair, const cv::Rect& box) const;
     cv::Size imageSize() const { return imageSize_; }
 
 private:

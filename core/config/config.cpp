@@ -78,6 +78,8 @@ void readVolume(Section s, volume::Parameters& v) {
     s.readChoice("integration", integration, {"trapz", "sum"});
     v.integration = integration == "sum" ? volume::Integration::Sum : volume::Integration::Trapz;
     s.read("max_thickness_mm", v.maxThicknessMm, 1.0, 2000.0);
+    s.read("max_ice_thickness_mm", v.maxIceThicknessMm, 0.0, 2000.0);
+    s.read("match_region", v.matchRegion);
     s.read("occlusion_slope", v.occlusionSlope, 0.0, 1000.0);
     s.read("occlusion_step_mm", v.occlusionStepMm, 0.0, 1000.0);
     s.read("disparity_noise_px", v.disparityNoisePx, 0.0, 10.0);

@@ -1,4 +1,8 @@
 // A capture as the float average of the frames that showed the same still scene (capture_average.hpp).
+//
+// Streaming rather than choosing a reference after the burst: holding every frame of a 16-frame
+// burst at 3840x1080 took about 200 MB in BGR alone; a two-pass over re-decoded frames would work
+// for recordings but not for the daemon, whose camera hands each frame over once.
 #include "core/volume/capture_average.hpp"
 
 #include <algorithm>
@@ -47,10 +51,6 @@ cv::Point2d globalShift(const cv::Mat& a, const cv::Mat& b) {
     return cv::Point2d((yy * bx - xy * by) / det, (xx * by - xy * bx) / det) * 2.0;
 }
 
-std::string nameOf(const std::vector<std::string>& names, std::size_t i) {
-    return i < names.size() ? names[i] : "frame " + std::to_string(i + 1);
-}
-
 // Share of pixels (percent) whose difference stands out of the difference's own noise.
 double changedPercent(const cv::Mat& a, const cv::Mat& b) {
     cv::Mat diff = a - b;
@@ -67,81 +67,149 @@ double changedPercent(const cv::Mat& a, const cv::Mat& b) {
     return 100.0 * count / static_cast<double>(diff.total());
 }
 
+
+// How a frame compares with a group's reference: an empty flag when it shows the same still scene.
+struct Verdict {
+    std::string flag;  // "", "moved" or "disturbed"
+    std::string why;
+};
+
+Verdict compare(const cv::Mat& reference, const cv::Mat& frame, const CaptureAverageOptions& o) {
+    const cv::Point2d shift = globalShift(reference, frame);
+    if (std::hypot(shift.x, shift.y) > o.maxFrameShiftPx) {
+        std::ostringstream why;
+        why.precision(2);
+        why << "moved " << std::hypot(shift.x, shift.y) << " px against the others (max " << o.maxFrameShiftPx << ")";
+        return {"moved", why.str()};
+    }
+    const double changed = changedPercent(reference, frame);
+    if (changed > o.maxChangedPercent) {
+        std::ostringstream why;
+        why.precision(2);
+        why << changed << " % of the image changed against the others (something passed)";
+        return {"disturbed", why.str()};
+    }
+    return {};
+}
+
+// Frames that showed one scene: the first one's half-size image, and the full-size sum.
+struct Group {
+    cv::Mat reference;
+    cv::Mat sum;  // CV_32F: a sum of up to 65 793 8-bit frames is exact
+    int count = 0;
+};
+
+struct FrameRecord {
+    std::string name;
+    int group = -1;       // -1: in neither
+    Verdict versus[2];    // against each group's reference, where it was compared
+    bool compared[2] = {false, false};
+};
+
 }  // namespace
 
-AveragedCapture averageCapture(const std::vector<cv::Mat>& frames, const std::vector<std::string>& names,
-                               const CaptureAverageOptions& o) {
+struct CaptureAccumulator::Impl {
+    CaptureAverageOptions options;
+    cv::Size size;
+    std::vector<FrameRecord> healthy;
+    std::vector<DroppedFrame> unhealthy;
+    int framesAdded = 0;
+    std::vector<Group> groups;  // at most two
+    Verdict secondOpened;       // why the second group's first frame disagreed with the first's
+
+    void join(std::size_t group, const cv::Mat& grey) {
+        cv::accumulate(grey, groups[group].sum);
+        ++groups[group].count;
+        healthy.back().group = static_cast<int>(group);
+    }
+    void open(const cv::Mat& small, const cv::Mat& grey) {
+        groups.push_back({small, cv::Mat::zeros(grey.size(), CV_32F), 0});
+        join(groups.size() - 1, grey);
+    }
+};
+
+CaptureAccumulator::CaptureAccumulator(const CaptureAverageOptions& options) : impl_(std::make_unique<Impl>()) {
+    impl_->options = options;
+}
+CaptureAccumulator::~CaptureAccumulator() = default;
+CaptureAccumulator::CaptureAccumulator(CaptureAccumulator&&) noexcept = default;
+CaptureAccumulator& CaptureAccumulator::operator=(CaptureAccumulator&&) noexcept = default;
+
+int CaptureAccumulator::framesAdded() const { return impl_->framesAdded; }
+
+void CaptureAccumulator::add(const cv::Mat& frame, const std::string& givenName) {
+    Impl& a = *impl_;
+    const std::string name = givenName.empty() ? "frame " + std::to_string(a.framesAdded + 1) : givenName;
+    if (frame.empty() || frame.depth() != CV_8U || (a.framesAdded > 0 && frame.size() != a.size)) {
+        throw InvalidInput(name + ": not an 8-bit frame of the capture's size");
+    }
+    if (a.framesAdded++ == 0) a.size = frame.size();
+    const cv::Mat grey = greyOf(frame);
+    const int half = grey.cols / 2;
+    for (const auto& [eye, which] : {std::pair{cv::Rect(0, 0, half, grey.rows), "left eye"},
+                                     std::pair{cv::Rect(half, 0, half, grey.rows), "right eye"}}) {
+        const health::ImageHealth h = health::checkImageHealth(grey(eye), a.options.health);
+        if (!h.ok()) {
+            a.unhealthy.push_back({h.problems.front().flag, name + ": " + which + ": " + h.problems.front().reason});
+            return;
+        }
+    }
+    a.healthy.push_back({name, -1, {}, {}});
+    const cv::Mat reduced = small(grey);
+    if (a.groups.empty()) {
+        a.open(reduced, grey);
+        return;
+    }
+    FrameRecord& record = a.healthy.back();
+    for (std::size_t g = 0; g < a.groups.size(); ++g) {
+        record.versus[g] = compare(a.groups[g].reference, reduced, a.options);
+        record.compared[g] = true;
+        if (record.versus[g].flag.empty()) {
+            a.join(g, grey);
+            return;
+        }
+    }
+    if (a.groups.size() == 1) {
+        a.secondOpened = record.versus[0];
+        a.open(reduced, grey);
+    }
+}
+
+AveragedCapture CaptureAccumulator::finish() {
+    Impl a = std::move(*impl_);
+    impl_ = std::make_unique<Impl>();
+    impl_->options = a.options;
     AveragedCapture out;
-    if (frames.empty()) throw InvalidInput("capture: no frames");
-    auto drop = [&](std::size_t i, const std::string& flag, const std::string& why) {
-        out.dropped.push_back({flag, nameOf(names, i) + ": " + why});
-    };
-    std::vector<std::size_t> healthy;
-    std::vector<cv::Mat> greys(frames.size());
-    for (std::size_t i = 0; i < frames.size(); ++i) {
-        if (frames[i].empty() || frames[i].depth() != CV_8U || frames[i].size() != frames.front().size()) {
-            throw InvalidInput(nameOf(names, i) + ": not an 8-bit frame of the capture's size");
-        }
-        greys[i] = greyOf(frames[i]);
-        const int half = greys[i].cols / 2;
-        bool ok = true;
-        for (const auto& [eye, which] : {std::pair{cv::Rect(0, 0, half, greys[i].rows), "left eye"},
-                                         std::pair{cv::Rect(half, 0, half, greys[i].rows), "right eye"}}) {
-            const health::ImageHealth h = health::checkImageHealth(greys[i](eye), o.health);
-            if (ok && !h.ok()) {
-                drop(i, h.problems.front().flag, std::string(which) + ": " + h.problems.front().reason);
-                ok = false;
-            }
-        }
-        if (ok) healthy.push_back(i);
+    out.dropped = a.unhealthy;
+    out.framesHealthy = static_cast<int>(a.healthy.size());
+    const int winner = a.groups.size() == 2 && a.groups[1].count > a.groups[0].count ? 1 : 0;
+    for (const FrameRecord& f : a.healthy) {
+        if (f.group == winner) continue;
+        // A frame of the losing first group was never compared with the second group's reference;
+        // it disagrees with it as that reference disagreed with the first group's.
+        const Verdict& v = f.compared[winner] ? f.versus[winner] : a.secondOpened;
+        out.dropped.push_back({v.flag, f.name + ": " + v.why});
     }
-    out.framesHealthy = static_cast<int>(healthy.size());
-    // The medoid of the healthy frames, by mean absolute difference.
-    std::vector<cv::Mat> smalls(frames.size());
-    for (std::size_t i : healthy) smalls[i] = small(greys[i]);
-    std::size_t reference = healthy.empty() ? 0 : healthy.front();
-    double bestSum = std::numeric_limits<double>::infinity();
-    for (std::size_t i : healthy) {
-        double sum = 0;
-        for (std::size_t j : healthy) sum += i == j ? 0.0 : cv::norm(smalls[i], smalls[j], cv::NORM_L1);
-        if (sum < bestSum) {
-            bestSum = sum;
-            reference = i;
-        }
-    }
-    std::vector<std::size_t> still;
-    for (std::size_t i : healthy) {
-        if (i != reference) {
-            const cv::Point2d shift = globalShift(smalls[reference], smalls[i]);
-            if (std::hypot(shift.x, shift.y) > o.maxFrameShiftPx) {
-                std::ostringstream why;
-                why.precision(2);
-                why << "moved " << std::hypot(shift.x, shift.y) << " px against the others (max " << o.maxFrameShiftPx << ")";
-                drop(i, "moved", why.str());
-                continue;
-            }
-            const double changed = changedPercent(smalls[reference], smalls[i]);
-            if (changed > o.maxChangedPercent) {
-                std::ostringstream why;
-                why.precision(2);
-                why << changed << " % of the image changed against the others (something passed)";
-                drop(i, "disturbed", why.str());
-                continue;
-            }
-        }
-        still.push_back(i);
-    }
-    if (static_cast<int>(still.size()) < std::max(1, o.minFrames)) {
-        out.reason = std::to_string(still.size()) + " usable frames of " + std::to_string(frames.size()) + " (" +
-                     std::to_string(std::max(1, o.minFrames)) + " needed)";
+    const int used = a.groups.empty() ? 0 : a.groups[static_cast<std::size_t>(winner)].count;
+    const int needed = std::max(1, a.options.minFrames);
+    if (used < needed) {
+        out.reason = std::to_string(used) + " usable frames of " + std::to_string(a.framesAdded) + " (" +
+                     std::to_string(needed) + " needed)";
         for (const DroppedFrame& d : out.dropped) out.reason += "; " + d.reason;
         return out;
     }
-    out.frame = cv::Mat::zeros(frames.front().size(), CV_32F);
-    for (std::size_t i : still) cv::accumulate(greys[i], out.frame);
-    out.frame /= static_cast<double>(still.size());
-    out.framesUsed = static_cast<int>(still.size());
+    Group& group = a.groups[static_cast<std::size_t>(winner)];
+    out.frame = group.sum / static_cast<double>(group.count);
+    out.framesUsed = group.count;
     return out;
+}
+
+AveragedCapture averageCapture(const std::vector<cv::Mat>& frames, const std::vector<std::string>& names,
+                               const CaptureAverageOptions& o) {
+    if (frames.empty()) throw InvalidInput("capture: no frames");
+    CaptureAccumulator accumulator(o);
+    for (std::size_t i = 0; i < frames.size(); ++i) accumulator.add(frames[i], i < names.size() ? names[i] : "");
+    return accumulator.finish();
 }
 
 }  // namespace icewatch::volume

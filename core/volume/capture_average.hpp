@@ -1,5 +1,6 @@
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -36,12 +37,37 @@ struct AveragedCapture {
 
 // A parked blade and a fixed camera give many frames of one scene in a fraction of a second; their
 // average divides the sensor noise, and most of the JPEG and quantisation error, by √N. Frames that
-// fail the health check are left out, then those that disagree with the others: the reference is
-// the medoid frame (the one closest to all others, so a disturbed first frame cannot be it), a
+// fail the health check are left out, then those that disagree with the scene most frames show: a
 // frame whose global shift against it exceeds maxFrameShiftPx moved, one with more than
 // maxChangedPercent of its pixels beyond 6 robust σ of the difference saw something pass.
-// Frames: CV_8UC3 (BGR) or CV_8UC1, all of one size; `names` (may be empty) name them in the
-// reasons. Throws InvalidInput when a frame is empty, not 8-bit or of another size (naming it).
+//
+// Frames are taken one at a time and summed as they come, so memory does not grow with the burst:
+// the first healthy frame is the reference, and the first frame that disagrees with it opens a
+// second group with its own reference and sum. The larger group is the capture (the first on a
+// tie), so a disturbed or moved first frame loses to the frames after it instead of casting them
+// all out; a frame that fits neither group is left out. Two sums, two half-size references and
+// the frame in hand are all that is held, whatever the burst's length.
+//
+// Frames: CV_8UC3 (BGR) or CV_8UC1, all of one size; a name (may be empty) names a frame in the
+// reasons. add() throws InvalidInput when a frame is empty, not 8-bit or of another size (naming it).
+class CaptureAccumulator {
+public:
+    explicit CaptureAccumulator(const CaptureAverageOptions& options = {});
+    ~CaptureAccumulator();
+    CaptureAccumulator(CaptureAccumulator&&) noexcept;
+    CaptureAccumulator& operator=(CaptureAccumulator&&) noexcept;
+
+    void add(const cv::Mat& frame, const std::string& name = {});
+    int framesAdded() const;
+    // The average of the frames added so far (the accumulator is then empty again).
+    AveragedCapture finish();
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+// All frames at once, through a CaptureAccumulator. Throws InvalidInput when there are none.
 AveragedCapture averageCapture(const std::vector<cv::Mat>& frames, const std::vector<std::string>& names,
                                const CaptureAverageOptions& options = {});
 

@@ -91,6 +91,15 @@ cv::Mat reproject(const cv::Mat& disparity, const cv::Mat& q) {
     return points;
 }
 
+// A window's image placed in a frame-sized one, `outside` elsewhere (the window itself when it is
+// the whole frame).
+cv::Mat placedInFrame(const cv::Mat& image, const cv::Rect& window, cv::Size frame, float outside) {
+    if (window.size() == frame) return image;
+    cv::Mat out(frame, image.type(), cv::Scalar::all(outside));
+    image.copyTo(out(window));
+    return out;
+}
+
 bool validPoint(const cv::Vec3f& p) { return !std::isnan(p[2]); }
 
 VolumeResult refused(VolumeResult result, const std::string& reason) {
@@ -125,6 +134,13 @@ struct VolumeChain::Impl {
     cv::Mat polygonRoi;  // rectified; empty = segment
     cv::Matx34d projection;
     double focalPx = 0, baselineMm = 0;
+
+    // measureSurface: a baseline (nullptr) in the whole frame, a later capture in its followUp.
+    Surface measureFrame(const cv::Mat& sideBySideFrame, const Surface* baseline);
+    Surface measure(const StereoPair& raw, const Surface* baseline);
+    MatchRegion followUpRegion(const Surface& baseline) const;
+    // A baseline with a configured outline: its region and band from a coarse pass (match_region.hpp).
+    MatchRegion coarseRegion(const StereoPair& raw);
 };
 
 namespace {
@@ -158,41 +174,115 @@ VolumeChain& VolumeChain::operator=(VolumeChain&&) noexcept = default;
 
 const Parameters& VolumeChain::parameters() const { return impl_->parameters; }
 
-Surface VolumeChain::measureSurface(const cv::Mat& sideBySideFrame) {
+Surface VolumeChain::measureSurface(const cv::Mat& sideBySideFrame) { return impl_->measureFrame(sideBySideFrame, nullptr); }
+
+Surface VolumeChain::measureSurface(const StereoPair& raw) { return impl_->measure(raw, nullptr); }
+
+Surface VolumeChain::measureSurface(const cv::Mat& sideBySideFrame, const Surface& baseline) {
+    return impl_->measureFrame(sideBySideFrame, &baseline);
+}
+
+Surface VolumeChain::measureSurface(const StereoPair& raw, const Surface& baseline) { return impl_->measure(raw, &baseline); }
+
+Surface VolumeChain::Impl::measureFrame(const cv::Mat& sideBySideFrame, const Surface* baseline) {
     Timings split;
-    StageTimer timer(impl_->clock, split);
+    StageTimer timer(clock, split);
     const StereoPair raw = splitSideBySide(sideBySideFrame);
     timer.lap("split");
-    Surface surface = measureSurface(raw);
+    Surface surface = measure(raw, baseline);
     surface.timingsMs.insert(surface.timingsMs.begin(), split.front());
     return surface;
 }
 
-Surface VolumeChain::measureSurface(const StereoPair& raw) {
+Surface VolumeChain::Impl::measure(const StereoPair& raw, const Surface* baseline) {
     Surface s;
-    StageTimer timer(impl_->clock, s.timingsMs);
-    const StereoPair rectified = impl_->rectifier.rectify(raw);
-    s.leftGrey = toFloatGrey(rectified.left);
-    const cv::Mat rightGrey = toFloatGrey(rectified.right);
+    StageTimer timer(clock, s.timingsMs);
+    const cv::Size size = rectifier.imageSize();
+    MatchRegion region = baseline && parameters.matchRegion ? baseline->followUp : MatchRegion{};
+    if (!baseline && !polygonRoi.empty() && parameters.matchRegion) {
+        region = coarseRegion(raw);
+        timer.lap("coarse");
+    }
+    // The matcher's window: the region's box and, to its left, the band's reach into the right eye.
+    const cv::Rect window = region.empty() ? cv::Rect({0, 0}, size) : matcherWindow(region, size);
+    const StereoPair rectified = rectifier.rectify(raw, window);
+    const cv::Mat left = toFloatGrey(rectified.left);
+    const cv::Mat right = toFloatGrey(rectified.right);
+    s.leftGrey = placedInFrame(left, window, size, 0.0f);
     s.leftGrey.convertTo(s.rectifiedLeft, CV_8U);
     // Prepared here, once per surface: the daemon keeps the baseline's and estimates against it
     // every cycle.
-    s.trackLeft = prepareForTracking(s.leftGrey);
-    s.trackRight = prepareForTracking(rightGrey);
+    s.trackLeft = placedInFrame(prepareForTracking(left), window, size, 0.0f);
+    s.trackRight = placedInFrame(prepareForTracking(right), window, size, 0.0f);
     timer.lap("rectify");
     // The float average goes to the matcher as it is: its integer stages round it, its sub-pixel
     // refinement reads the fraction the averaging gained.
-    s.disparity = impl_->matcher.compute(s.leftGrey, rightGrey, impl_->parameters.maxDisparity);
+    s.matched = region;
+    s.matched.band = region.empty() ? stereo::DisparityRange{0, parameters.maxDisparity} : region.band;
+    cv::Mat disparity = matcher.compute(left, right, s.matched.band);
+    if (!region.empty()) {
+        // Left of the region's box the window only served as the right eye's reach.
+        disparity(cv::Rect(0, 0, region.box.x - window.x, window.height)).setTo(stereo::kInvalidDisparity);
+    }
+    s.disparity = placedInFrame(disparity, window, size, stereo::kInvalidDisparity);
     timer.lap("match");
-    s.points = reproject(s.disparity, impl_->calibration.Q);
+    s.points = reproject(s.disparity, calibration.Q);
     timer.lap("reproject");
-    s.roi = impl_->polygonRoi.empty() ? segmentRoi(s.points, impl_->parameters.segmentationBandMm)
-                                      : impl_->polygonRoi.clone();
+    // A later capture keeps the baseline's region: segmenting a cropped capture would find a
+    // different one, and the estimate measures inside the baseline's anyway.
+    if (!polygonRoi.empty()) s.roi = polygonRoi.clone();
+    else if (baseline) s.roi = baseline->roi.clone();
+    else s.roi = segmentRoi(s.points, parameters.segmentationBandMm);
     s.quality = measureImageQuality(s.rectifiedLeft, s.roi);
     const int inside = cv::countNonZero(s.roi);
     s.validPercent = inside > 0 ? 100.0 * cv::countNonZero((s.disparity >= 0) & s.roi) / inside : 0.0;
+    if (baseline && !region.empty() && !imageProblem(s.quality, parameters, "current")) {
+        // The object left the matched box when the scene's shift says so and the region no longer
+        // looks like the baseline's where it was (a wrong peak of the shift, bright ice that
+        // appeared, leaves the region alike and is the registration's to judge).
+        constexpr double kLeftCorrelation = 0.5;
+        const cv::Point2d shift = globalImageShift(baseline->leftGrey, s.leftGrey, baseline->roi);
+        auto problem = regionProblem(region, size, shift);
+        if (problem && maskedCorrelation(baseline->leftGrey, s.leftGrey, baseline->roi) < kLeftCorrelation) {
+            s.regionProblem = *problem;
+        }
+    }
+    if (!baseline && parameters.matchRegion) s.followUp = followUpRegion(s);
     timer.lap("region");
     return s;
+}
+
+MatchRegion VolumeChain::Impl::coarseRegion(const StereoPair& raw) {
+    const int reach = matcherReachPx(parameters.stereoMethod, matcher.parameters());
+    const cv::Size size = rectifier.imageSize();
+    const cv::Rect window = coarseWindow(polygonRoi, parameters.maxDisparity, reach, kCoarseFactor);
+    const StereoPair rectified = rectifier.rectify(raw, window);
+    const double scale = 1.0 / kCoarseFactor;
+    cv::Mat left, right;
+    cv::resize(toFloatGrey(rectified.left), left, {}, scale, scale, cv::INTER_AREA);
+    cv::resize(toFloatGrey(rectified.right), right, {}, scale, scale, cv::INTER_AREA);
+    const int coarseMax = std::min(parameters.maxDisparity / kCoarseFactor, left.cols - 1);
+    if (coarseMax < stereo::kMinDisparityBand) return {};
+    const cv::Mat coarse = matcher.compute(left, right, stereo::DisparityRange{0, coarseMax});
+    cv::Mat up;
+    cv::resize(coarse, up, window.size(), 0, 0, cv::INTER_NEAREST);
+    up *= kCoarseFactor;  // invalid stays negative
+    try {
+        return baselineRegionFromCoarse(placedInFrame(up, window, size, stereo::kInvalidDisparity), polygonRoi,
+                                        cv::Matx44d(calibration.Q), focalPx, parameters, reach, kCoarseFactor);
+    } catch (const InvalidInput&) {
+        return {};  // nothing valid in the outline at the coarse scale: the whole frame, as without one
+    }
+}
+
+MatchRegion VolumeChain::Impl::followUpRegion(const Surface& s) const {
+    if (cv::countNonZero(s.roi) == 0) return {};
+    try {
+        return matchRegionFromBaseline(s.disparity, s.roi, cv::Matx44d(calibration.Q), focalPx, parameters,
+                                       matcherReachPx(parameters.stereoMethod, matcher.parameters()));
+    } catch (const InvalidInput&) {
+        return {};  // no valid disparity in the region: the estimate refuses this baseline anyway
+    }
 }
 
 VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& current) {
@@ -204,6 +294,7 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
         throw InvalidInput("volume: baseline and current surfaces must come from the same calibration");
     }
     result.validPercent = current.validPercent;
+    if (!current.regionProblem.empty()) return refused(result, current.regionProblem);
 
     // --- gate on the images ---
     if (cv::countNonZero(baseline.roi) == 0) return refused(result, "no region of interest in the baseline");

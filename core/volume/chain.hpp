@@ -13,6 +13,7 @@
 #include "core/common/side_by_side.hpp"
 #include "core/stereo/parameters.hpp"
 #include "core/volume/image_quality.hpp"
+#include "core/volume/match_region.hpp"
 #include "core/volume/parameters.hpp"
 #include "core/volume/uncertainty.hpp"
 
@@ -31,6 +32,13 @@ struct Surface {
     cv::Mat roi;            // CV_8U, 255 inside the object's outline (rectified left pixels)
     ImageQuality quality;   // of the left eye inside the region
     double validPercent = 0;  // valid disparities inside the region
+    // Where it was matched: an empty box is the whole frame (the band then 0 .. max_disparity).
+    MatchRegion matched;
+    // Where the captures compared with this one are matched (a baseline's; empty: the whole frame).
+    MatchRegion followUp;
+    // Why it cannot be compared with the baseline it was matched for (the object left the
+    // matched region); empty when it can.
+    std::string regionProblem;
     Timings timingsMs;
 };
 
@@ -81,11 +89,19 @@ public:
     VolumeChain(VolumeChain&&) noexcept;
     VolumeChain& operator=(VolumeChain&&) noexcept;
 
-    // A side-by-side camera frame or an unrectified pair. The region is the configured polygon,
-    // or segmented from this capture when there is none. Throws InvalidInput when the frame does
-    // not fit the calibration.
+    // A side-by-side camera frame or an unrectified pair, measured as a baseline. The region is the
+    // configured polygon, or segmented from this capture when there is none. With a polygon the
+    // capture is matched only around it (a coarse pass finds the band first, match_region.hpp);
+    // without one over the whole frame and every disparity. Either way the surface's followUp says
+    // where later captures are matched. Throws InvalidInput when the frame does not fit the
+    // calibration.
     Surface measureSurface(const cv::Mat& sideBySideFrame);
     Surface measureSurface(const StereoPair& raw);
+    // A capture to compare with `baseline`: rectified and matched only in the baseline's followUp
+    // region and band (the whole frame when it has none). The surface keeps the frame's size,
+    // its disparity invalid and its points NaN outside the matched box.
+    Surface measureSurface(const cv::Mat& sideBySideFrame, const Surface& baseline);
+    Surface measureSurface(const StereoPair& raw, const Surface& baseline);
 
     // The ice between a baseline (clean) and a current surface, inside the baseline's region.
     // A result that is not ok carries a reason and no volume.

@@ -17,6 +17,14 @@ struct Parameters {
     // --- matching ---
     stereo::Method stereoMethod = stereo::Method::Paper;
     int maxDisparity = 128;  // disparities searched: 0 .. maxDisparity-1
+    // The thickest ice a capture after the baseline must see: the band of disparities searched
+    // reaches this far in front of the baseline's surface (match_region.cpp). Thicker ice reads
+    // as invalid disparities there (a refusal for too few), never as a wrong depth.
+    double maxIceThicknessMm = 60;
+    // Captures after the baseline matched only in its region and band, a baseline with an outline
+    // only around it (match_region.hpp); false: every capture over the whole frame and every
+    // disparity (the comparison benchmark's "full frame").
+    bool matchRegion = true;
 
     // --- region of interest ---
     // The object's outline in left-eye pixels of the camera frame as x0, y0, x1, y1, ...; empty:

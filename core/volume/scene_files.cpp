@@ -33,7 +33,8 @@ cv::Mat readFrame(const std::filesystem::path& path) {
 
 }  // namespace
 
-SceneFiles loadSceneDirectory(const std::filesystem::path& dir, const RecordingReader& readRecording) {
+SceneFiles loadSceneDirectory(const std::filesystem::path& dir, const RecordingReader& readRecording,
+                              const CaptureAverageOptions& averaging) {
     if (!std::filesystem::is_directory(dir)) {
         throw Error(kExitNoInput, dir.string() + ": scene directory not found");
     }
@@ -41,26 +42,32 @@ SceneFiles loadSceneDirectory(const std::filesystem::path& dir, const RecordingR
     scene.calibration = calib::loadCalibration(dir / "calibration.yaml");
     const cv::Size expected(2 * scene.calibration.imageSize.width, scene.calibration.imageSize.height);
     auto readCapture = [&](const std::string& name) {
-        CaptureFiles capture;
-        const auto recording = dir / name;
-        if (std::filesystem::is_directory(recording)) {
-            if (!readRecording) throw Error(kExitUsage, recording.string() + ": recordings cannot be read here");
-            capture = readRecording(recording);
-            if (capture.frames.empty()) throw Error(kExitDataErr, recording.string() + ": no frames");
-        } else {
-            const auto single = dir / (name + ".png");
-            capture.frames.push_back(readFrame(single));
-            capture.names.push_back(single.string());
-        }
-        for (std::size_t i = 0; i < capture.frames.size(); ++i) {
-            if (capture.frames[i].size() != expected) {
-                throw Error(kExitDataErr, capture.names[i] + ": frame is " + sizeText(capture.frames[i].size()) +
+        CaptureAccumulator accumulator(averaging);
+        const FrameSink sink = [&](const cv::Mat& frame, const std::string& frameName) {
+            if (frame.size() != expected) {
+                throw Error(kExitDataErr, frameName + ": frame is " + sizeText(frame.size()) +
                                               ", but calibration.yaml describes eyes of " +
                                               sizeText(scene.calibration.imageSize) + " (a side-by-side frame of " +
                                               sizeText(expected) + ")");
             }
+            try {
+                accumulator.add(frame, frameName);
+            } catch (const InvalidInput& e) {
+                throw Error(kExitDataErr, e.what());
+            }
+        };
+        const auto recording = dir / name;
+        if (std::filesystem::is_directory(recording)) {
+            if (!readRecording) throw Error(kExitUsage, recording.string() + ": recordings cannot be read here");
+            readRecording(recording, sink);
+            if (accumulator.framesAdded() == 0) throw Error(kExitDataErr, recording.string() + ": no frames");
+        } else {
+            const auto single = dir / (name + ".png");
+            sink(readFrame(single), single.string());
         }
-        return capture;
+        AveragedCapture averaged = accumulator.finish();
+        if (averaged.frame.empty()) throw Error(kExitDataErr, recording.string() + ": capture: " + averaged.reason);
+        return averaged;
     };
     scene.before = readCapture("before");
     scene.after = readCapture("after");

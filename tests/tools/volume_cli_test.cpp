@@ -50,6 +50,23 @@ TEST(VolumeCli, SynthWritesACompleteSceneDirectory) {
     EXPECT_DOUBLE_EQ(nlohmann::json::parse(truth)["ice_volume_mm3"].get<double>(), 417391.0);
 }
 
+TEST(VolumeCli, JsonSaysWhereTheCurrentCaptureWasMatchedAndThePeakMemory) {
+    const auto dir = smallScene();
+    const auto r = test::runProgram({icewatchBin(), "volume", "--scene", dir.string(), "--stereo-method", "sgbm",
+                                     "--json", "--compare-full-frame"});
+    ASSERT_TRUE(r.status == 0 || r.status == 1) << r.err;  // ok or refused: both print the document
+    const auto out = nlohmann::json::parse(r.out);
+    const auto& m = out.at("matched_region");
+    EXPECT_FALSE(m.at("full_frame").get<bool>()) << "the scene has roi.json: the current capture is matched around it";
+    EXPECT_GT(m.at("box").at("width").get<int>(), 0);
+    EXPECT_LE(m.at("box").at("width").get<int>(), 320);
+    EXPECT_LT(m.at("min_disparity").get<int>(), m.at("max_disparity").get<int>());
+    EXPECT_GT(out.at("peak_rss_mb").get<double>(), 1.0);
+    const auto& full = out.at("full_frame");
+    EXPECT_GT(full.at("capture_ms").get<double>(), 0.0);
+    EXPECT_GT(full.at("speedup").get<double>(), 0.0);
+}
+
 TEST(VolumeCli, MissingFileIsNamed) {
     const auto dir = smallScene();
     std::filesystem::remove(dir / "after.png");

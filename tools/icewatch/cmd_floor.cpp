@@ -115,10 +115,9 @@ void addFloorCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
                 truthVolume = truth["ice_volume_mm3"].get<double>();
             }
 
-            // The captures as the chain measures them: averaged in floating point.
-            const config::ImageHealthConfig health;
-            const StereoPair before = splitSideBySide(averageSceneCapture(scene.before, health).frame);
-            const StereoPair after = splitSideBySide(averageSceneCapture(scene.after, health).frame);
+            // The captures as the chain measures them: averaged in floating point (as they were read).
+            const StereoPair before = splitSideBySide(scene.before.frame);
+            const StereoPair after = splitSideBySide(scene.after.frame);
             const synth::DisparityFloor fb = synth::measureDisparityFloor(before.left, before.right, truthBefore, o->boxPx);
             const synth::DisparityFloor fa = synth::measureDisparityFloor(after.left, after.right, truthAfter, o->boxPx);
             if (fb.boxes < 2 || fa.boxes < 2) {

@@ -1,5 +1,7 @@
 // icewatch volume: run the whole volume chain on a scene directory (calibration, baseline and
 // current capture, optional outline) and print the result. The daemon calls the same chain.
+#include <sys/resource.h>
+
 #include <chrono>
 #include <iostream>
 
@@ -31,6 +33,29 @@ nlohmann::json timingsJson(const volume::Timings& timings) {
     return out;
 }
 
+// Peak resident memory of this process so far (getrusage: kilobytes on Linux).
+double peakRssMb() {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    return static_cast<double>(usage.ru_maxrss) / 1024.0;
+}
+
+nlohmann::json regionJson(const volume::MatchRegion& region, cv::Size frame) {
+    const cv::Rect box = region.empty() ? cv::Rect({0, 0}, frame) : region.box;
+    return {{"box", {{"x", box.x}, {"y", box.y}, {"width", box.width}, {"height", box.height}}},
+            {"full_frame", region.empty()},
+            {"min_disparity", region.band.min},
+            {"max_disparity", region.band.max}};
+}
+
+// The current capture's chain as the timings count it: its surface and the estimate.
+double captureChainMs(const volume::Surface& current, const volume::VolumeResult& result) {
+    double total = 0;
+    for (const auto& [stage, ms] : current.timingsMs) total += ms;
+    for (const auto& [stage, ms] : result.timingsMs) total += ms;
+    return total;
+}
+
 nlohmann::json captureJson(const volume::AveragedCapture& capture) {
     nlohmann::json dropped = nlohmann::json::array();
     for (const auto& d : capture.dropped) dropped.push_back(d.reason);
@@ -49,6 +74,7 @@ void addVolumeCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunctio
         std::string debugDir;
         bool json = false;
         bool force = false;
+        bool compareFullFrame = false;
     };
     auto o = std::make_shared<Options>();
     cmd->add_option("--scene", o->scene, "directory with calibration.yaml, before.png or before/ (a recording), after.png or after/ [, roi.json]")
@@ -59,6 +85,9 @@ void addVolumeCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunctio
     cmd->add_option("--debug-dir", o->debugDir, "write left.png, disparity.png, thickness.png (refused too, with the reason) and cloud.ply here");
     cmd->add_flag("--json", o->json, "print the result as one JSON object");
     addForceFlag(*cmd, o->force);
+    cmd->add_flag("--compare-full-frame", o->compareFullFrame,
+                  "also measure the current capture over the whole frame and the full disparity range, and print "
+                  "both times and their ratio (the peak memory then includes it)");
     cmd->callback([&run, o] {
         run = [o] {
             if (!o->debugDir.empty()) checkOutputDirectory(o->debugDir, o->force, "--debug-dir");
@@ -75,7 +104,9 @@ void addVolumeCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunctio
                     throw Error(kExitUsage, std::string("--stereo-method: ") + e.what());
                 }
             }
-            const volume::SceneFiles scene = volume::loadSceneDirectory(o->scene, readCaptureRecording);
+            volume::CaptureAverageOptions averaging;
+            averaging.health = configuration.daemon.health;
+            const volume::SceneFiles scene = volume::loadSceneDirectory(o->scene, readCaptureRecording, averaging);
             if (scene.roi) {
                 parameters.roiPolygon.clear();
                 for (const auto& p : *scene.roi) {
@@ -86,15 +117,15 @@ void addVolumeCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunctio
             Progress progress("volume");
             volume::VolumeChain chain(scene.calibration, parameters, [] { return std::chrono::steady_clock::now(); },
                                       configuration.stereo);
-            progress.show("averaging the captures");
-            const volume::AveragedCapture before = averageSceneCapture(scene.before, configuration.daemon.health);
-            const volume::AveragedCapture after = averageSceneCapture(scene.after, configuration.daemon.health);
+            const volume::AveragedCapture& before = scene.before;
+            const volume::AveragedCapture& after = scene.after;
             progress.show("measuring the baseline");
             const volume::Surface baseline = chain.measureSurface(before.frame);
             progress.show("measuring the current capture");
-            const volume::Surface current = chain.measureSurface(after.frame);
+            const volume::Surface current = chain.measureSurface(after.frame, baseline);
             progress.show("estimating the ice");
             const volume::VolumeResult r = chain.estimate(baseline, current);
+            const double rssMb = peakRssMb();
             if (!o->debugDir.empty()) {
                 // A refusal too: that is when a person wants to look.
                 const pictures::MeasurementPictures drawn =
@@ -127,7 +158,26 @@ void addVolumeCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunctio
                                {"registration_support_percent", r.supportSpanPercent},
                                {"baseline_capture", captureJson(before)},
                                {"current_capture", captureJson(after)},
-                               {"timings_ms", timings}};
+                               {"timings_ms", timings},
+                               {"matched_region", regionJson(current.matched, baseline.disparity.size())},
+                               {"peak_rss_mb", rssMb}};
+            if (o->compareFullFrame) {
+                // The chain as it was: both captures over the whole frame, every disparity.
+                volume::Parameters wholeFrame = parameters;
+                wholeFrame.matchRegion = false;
+                volume::VolumeChain fullChain(scene.calibration, wholeFrame,
+                                              [] { return std::chrono::steady_clock::now(); }, configuration.stereo);
+                const volume::Surface fullBaseline = fullChain.measureSurface(before.frame);
+                const volume::Surface full = fullChain.measureSurface(after.frame, fullBaseline);
+                const volume::VolumeResult fr = fullChain.estimate(fullBaseline, full);
+                const double regionMs = captureChainMs(current, r), fullMs = captureChainMs(full, fr);
+                out["full_frame"] = {{"status", fr.ok ? "ok" : "refused"},
+                                     {"volume_mm3", fr.ok ? fr.volumeMm3 : 0.0},
+                                     {"capture_ms", fullMs},
+                                     {"region_capture_ms", regionMs},
+                                     {"speedup", regionMs > 0 ? fullMs / regionMs : 0.0},
+                                     {"peak_rss_mb", peakRssMb()}};
+            }
             if (r.ok) {
                 out["volume_mm3"] = r.volumeMm3;
                 out["uncertainty_mm3"] = r.uncertaintyMm3;

@@ -10,10 +10,9 @@
 
 namespace icewatch::cli {
 
-volume::CaptureFiles readCaptureRecording(const std::filesystem::path& dir) {
+void readCaptureRecording(const std::filesystem::path& dir, const volume::FrameSink& sink) {
     const v4l2::Recording recording = v4l2::readRecording(dir);
     v4l2::FrameDecoder decoder;
-    volume::CaptureFiles capture;
     for (std::size_t i = 0; i < recording.frames.size(); ++i) {
         const auto path = recording.framePath(i);
         std::ifstream in(path, std::ios::binary);
@@ -26,23 +25,8 @@ volume::CaptureFiles readCaptureRecording(const std::filesystem::path& dir) {
                                           v4l2::dropReasonName(*problem) +
                                           (decoder.message().empty() ? "" : ": " + decoder.message()) + ")");
         }
-        capture.frames.push_back(bgr.clone());
-        capture.names.push_back(path.string());
+        sink(bgr, path.string());
     }
-    return capture;
-}
-
-volume::AveragedCapture averageSceneCapture(const volume::CaptureFiles& capture, const config::ImageHealthConfig& health) {
-    volume::CaptureAverageOptions options;
-    options.health = health;
-    volume::AveragedCapture averaged;
-    try {
-        averaged = volume::averageCapture(capture.frames, capture.names, options);
-    } catch (const InvalidInput& e) {
-        throw Error(kExitDataErr, e.what());
-    }
-    if (averaged.frame.empty()) throw Error(kExitDataErr, "capture: " + averaged.reason);
-    return averaged;
 }
 
 }  // namespace icewatch::cli

@@ -87,6 +87,46 @@ TEST(CaptureAverage, SomethingPassingThroughOneFrameLeavesItOut) {
     EXPECT_NE(a.dropped[0].reason.find("frame 3"), std::string::npos);
 }
 
+TEST(CaptureAverage, ADisturbedFirstFrameLosesToTheFramesAfterIt) {
+    // The first frame is the reference the others are compared with as they come; when it is the
+    // odd one out, the frames that agree with each other win and it is the one left out.
+    const cv::Mat truth = scene();
+    std::vector<cv::Mat> frames;
+    for (int i = 0; i < 6; ++i) frames.push_back(noisyFrame(truth, 2.0, 400 + i));
+    cv::circle(frames[0], {150, 120}, 25, cv::Scalar(10), cv::FILLED);  // a bird in the first frame
+    const AveragedCapture a = averageCapture(frames, {}, lenient());
+    EXPECT_EQ(a.framesUsed, 5);
+    EXPECT_EQ(a.framesHealthy, 6);
+    ASSERT_EQ(a.dropped.size(), 1u);
+    EXPECT_EQ(a.dropped[0].flag, "disturbed");
+    EXPECT_NE(a.dropped[0].reason.find("frame 1"), std::string::npos) << a.dropped[0].reason;
+    // The average is that of frames 2..6.
+    cv::Mat expected = cv::Mat::zeros(truth.size(), CV_32F);
+    for (int i = 1; i < 6; ++i) cv::accumulate(frames[i], expected);
+    expected /= 5.0;
+    EXPECT_LT(cv::norm(a.frame, expected, cv::NORM_INF), 1e-3);
+}
+
+TEST(CaptureAverage, FramesAddedOneByOneGiveTheSameAverageAndTheAccumulatorStartsAfresh) {
+    const cv::Mat truth = scene();
+    std::vector<cv::Mat> frames;
+    for (int i = 0; i < 5; ++i) frames.push_back(noisyFrame(truth, 2.0, 500 + i));
+    frames[3] = noisyFrame(scene(1.5), 2.0, 600);  // moved
+    const AveragedCapture all = averageCapture(frames, {}, lenient());
+    CaptureAccumulator accumulator(lenient());
+    for (int round = 0; round < 2; ++round) {
+        for (const cv::Mat& f : frames) accumulator.add(f);
+        EXPECT_EQ(accumulator.framesAdded(), 5);
+        const AveragedCapture one = accumulator.finish();
+        EXPECT_EQ(accumulator.framesAdded(), 0);
+        EXPECT_EQ(one.framesUsed, 4);
+        EXPECT_EQ(cv::norm(one.frame, all.frame, cv::NORM_INF), 0.0);
+        ASSERT_EQ(one.dropped.size(), 1u);
+        EXPECT_EQ(one.dropped[0].flag, "moved");
+        EXPECT_NE(one.dropped[0].reason.find("frame 4"), std::string::npos) << one.dropped[0].reason;
+    }
+}
+
 TEST(CaptureAverage, TooFewUsableFramesIsNoCaptureAndSaysWhy) {
     std::vector<cv::Mat> frames{noisyFrame(scene(), 2.0, 1) / 20, noisyFrame(scene(), 2.0, 2) / 20};
     CaptureAverageOptions o = lenient();

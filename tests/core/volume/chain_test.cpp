@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "core/common/error.hpp"
 #include "core/synth/scene.hpp"
@@ -40,9 +41,10 @@ TEST(VolumeChain, SmallBlockSceneEndToEnd) {
     const synth::SyntheticScene scene = smallBlock(427174, 2);
     VolumeChain chain(scene.calibration, sgbmParameters(scene.roi));
     const Surface baseline = chain.measureSurface(scene.before);
-    const Surface current = chain.measureSurface(scene.after);
+    const Surface current = chain.measureSurface(scene.after, baseline);
     const VolumeResult r = chain.estimate(baseline, current);
     ASSERT_TRUE(r.ok) << r.reason;
+    EXPECT_FALSE(current.matched.empty()) << "the current capture is matched in the baseline's region";
     const double error = std::abs(r.volumeMm3 - scene.iceVolumeMm3);
     EXPECT_LT(error, 0.2 * scene.iceVolumeMm3) << "measured " << r.volumeMm3 << " truth " << scene.iceVolumeMm3;
     EXPECT_LT(error, r.uncertaintyMm3);
@@ -55,7 +57,7 @@ TEST(VolumeChain, GateRefusesADarkPair) {
     VolumeChain chain(scene.calibration, sgbmParameters(scene.roi));
     const Surface baseline = chain.measureSurface(scene.before);
     const cv::Mat dark = scene.after * 0.05;
-    const VolumeResult r = chain.estimate(baseline, chain.measureSurface(dark));
+    const VolumeResult r = chain.estimate(baseline, chain.measureSurface(dark, baseline));
     EXPECT_FALSE(r.ok);
     EXPECT_NE(r.reason.find("too dark"), std::string::npos) << r.reason;
     EXPECT_EQ(r.volumeMm3, 0.0);
@@ -69,7 +71,7 @@ TEST(VolumeChain, GateRefusesAPairWithoutTexture) {
     cv::Mat noise(flat.size(), CV_8UC3);
     cv::randn(noise, 0, 1.5);
     flat += noise;
-    const VolumeResult r = chain.estimate(baseline, chain.measureSurface(flat));
+    const VolumeResult r = chain.estimate(baseline, chain.measureSurface(flat, baseline));
     EXPECT_FALSE(r.ok);
     EXPECT_TRUE(r.reason.find("without texture") != std::string::npos ||
                 r.reason.find("too few valid disparities") != std::string::npos)
@@ -97,7 +99,7 @@ AveragedBlade measureAveragedBlade(const synth::SceneSpec& spec, stereo::Method 
         return averageCapture(frames, {}, options).frame;
     };
     const Surface baseline = chain.measureSurface(average(out.scene.beforeJpeg));
-    const Surface current = chain.measureSurface(average(out.scene.afterJpeg));
+    const Surface current = chain.measureSurface(average(out.scene.afterJpeg), baseline);
     out.result = chain.estimate(baseline, current);
     return out;
 }
@@ -140,6 +142,89 @@ TEST(VolumeChain, GlazeOverEverythingOnAMovedBladeWithoutBackgroundIsRefused) {
         EXPECT_NE(r.reason.find("not observable"), std::string::npos) << r.reason;
     }
     EXPECT_FALSE(r.ok) << "a clear glaze over the whole moved blade leaves no evidence of its motion";
+}
+
+// Share of the region's pixels where the cropped, banded match and the whole-frame, full-range
+// match agree: both invalid, or both valid within `tolerancePx`.
+double agreeingPercent(const Surface& cropped, const Surface& full, const cv::Mat& region, float tolerancePx) {
+    int agree = 0, total = 0;
+    for (int y = 0; y < region.rows; ++y)
+        for (int x = 0; x < region.cols; ++x) {
+            if (!region.at<std::uint8_t>(y, x)) continue;
+            ++total;
+            const float a = cropped.disparity.at<float>(y, x), b = full.disparity.at<float>(y, x);
+            const bool bothInvalid = a < 0 && b < 0;
+            agree += bothInvalid || (a >= 0 && b >= 0 && std::abs(a - b) <= tolerancePx) ? 1 : 0;
+        }
+    return 100.0 * agree / std::max(1, total);
+}
+
+// minAgreeing: the share (percent) of the region whose disparity agrees to a hundredth of a pixel.
+void expectCropMatchesFullFrame(stereo::Method method, double minAgreeing) {
+    const synth::SyntheticScene scene = smallBlock(427174, 6);
+    Parameters p = sgbmParameters(scene.roi);
+    p.stereoMethod = method;
+    VolumeChain chain(scene.calibration, p);
+    const Surface baseline = chain.measureSurface(scene.before);
+    ASSERT_FALSE(baseline.followUp.empty());
+    const Surface cropped = chain.measureSurface(scene.after, baseline);
+    Parameters whole = p;
+    whole.matchRegion = false;
+    VolumeChain wholeChain(scene.calibration, whole);
+    const Surface full = wholeChain.measureSurface(scene.after);
+    ASSERT_TRUE(full.matched.empty());
+    // The baseline with an outline was itself matched around it (a coarse pass found its band):
+    // the same disparities as over the whole frame there too.
+    ASSERT_FALSE(baseline.matched.empty());
+    EXPECT_GT(agreeingPercent(baseline, wholeChain.measureSurface(scene.before), baseline.roi, 0.01f), minAgreeing);
+    const MatchRegion& m = cropped.matched;
+    EXPECT_EQ(m.box, baseline.followUp.box);
+    EXPECT_LT(m.box.area(), full.disparity.size().area()) << "the crop is smaller than the frame";
+    EXPECT_LT(m.band.width(), p.maxDisparity / 2) << "the band is narrower than the full search";
+    EXPECT_EQ(cropped.disparity.size(), full.disparity.size()) << "the surface keeps the frame's size";
+    // Outside the matched box nothing was measured.
+    cv::Mat outside(full.disparity.size(), CV_8U, cv::Scalar(255));
+    outside(m.box).setTo(0);
+    EXPECT_EQ(cv::countNonZero((cropped.disparity >= 0) & outside), 0);
+    EXPECT_EQ(cv::countNonZero(cropped.points.reshape(1) == cropped.points.reshape(1)), 3 * cv::countNonZero(cropped.disparity >= 0));
+    // Inside the region (which lies a margin inside the box) the disparities are those of the
+    // whole frame: the scanlines carry a little of what lies beyond the crop and of the
+    // disparities the band leaves out, so not every last pixel is bit for bit.
+    EXPECT_GT(agreeingPercent(cropped, full, baseline.roi, 0.01f), minAgreeing);
+    EXPECT_GT(agreeingPercent(cropped, full, baseline.roi, 0.25f), 99.5);
+    EXPECT_NEAR(cropped.validPercent, full.validPercent, 0.5);
+}
+
+TEST(VolumeChain, CroppedBandedCaptureMatchesTheFullFrameInsideTheRegionSgbm) {
+    // OpenCV's SGBM (wrapped) moves more sub-pixel values by a little: its scanlines' penalty
+    // reads the minimum over the disparities searched, its uniqueness test the second best there.
+    expectCropMatchesFullFrame(stereo::Method::Sgbm, 95.0);
+}
+
+TEST(VolumeChain, CroppedBandedCaptureMatchesTheFullFrameInsideTheRegionPaper) {
+    expectCropMatchesFullFrame(stereo::Method::Paper, 99.0);
+}
+
+TEST(VolumeChain, AnObjectThatLeftTheMatchedRegionIsRefusedAndSaysSo) {
+    const synth::SyntheticScene scene = smallBlock(427174, 7);
+    Parameters p = sgbmParameters(scene.roi);
+    p.maxRegistrationMm = 5;  // a narrow margin, so the box stays inside this small frame
+    VolumeChain chain(scene.calibration, p);
+    const Surface baseline = chain.measureSurface(scene.before);
+    ASSERT_FALSE(baseline.followUp.empty());
+    // The whole rig swung: both eyes see the scene 150 px further left.
+    const StereoPair eyes = splitSideBySide(scene.after);
+    const cv::Matx23d shift(1, 0, -150, 0, 1, 0);
+    StereoPair moved;
+    cv::warpAffine(eyes.left, moved.left, shift, eyes.left.size(), cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+    cv::warpAffine(eyes.right, moved.right, shift, eyes.right.size(), cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+    const Surface current = chain.measureSurface(moved, baseline);
+    const VolumeResult r = chain.estimate(baseline, current);
+    EXPECT_FALSE(r.ok);
+    EXPECT_NE(r.reason.find("out of the region matched"), std::string::npos)
+        << r.reason << " valid " << current.validPercent << " box " << current.matched.box << " region "
+        << current.matched.regionBox;
+    EXPECT_EQ(r.volumeMm3, 0.0);
 }
 
 TEST(VolumeChain, FrameOfAnotherModeIsAnError) {
