@@ -237,14 +237,23 @@ Surface VolumeChain::Impl::measure(const StereoPair& raw, const Surface* baselin
     const int inside = cv::countNonZero(s.roi);
     s.validPercent = inside > 0 ? 100.0 * cv::countNonZero((s.disparity >= 0) & s.roi) / inside : 0.0;
     if (baseline && !region.empty() && !imageProblem(s.quality, parameters, "current")) {
-        // The object left the matched box when the scene's shift says so and the region no longer
-        // looks like the baseline's where it was (a wrong peak of the shift, bright ice that
-        // appeared, leaves the region alike and is the registration's to judge).
+        // The object left the matched box when the scene's shift says so, the region no longer
+        // looks like the baseline's where it was, and it does where the shift put it.
+        // A wrong peak of the shift (bright rime patches that appeared, a repeated texture) leaves
+        // the region more alike where it was than where the peak says, and is the registration's
+        // to judge.
         constexpr double kLeftCorrelation = 0.5;
         const cv::Point2d shift = globalImageShift(baseline->leftGrey, s.leftGrey, baseline->roi);
-        auto problem = regionProblem(region, size, shift);
-        if (problem && maskedCorrelation(baseline->leftGrey, s.leftGrey, baseline->roi) < kLeftCorrelation) {
-            s.regionProblem = *problem;
+        if (auto problem = regionProblem(region, size, shift)) {
+            const double inPlace = maskedCorrelation(baseline->leftGrey, s.leftGrey, baseline->roi);
+            cv::Mat movedBack;
+            const cv::Matx23d back(1, 0, -shift.x, 0, 1, -shift.y);
+            cv::warpAffine(s.leftGrey, movedBack, back, s.leftGrey.size(), cv::INTER_LINEAR, cv::BORDER_REFLECT);
+            const double whereMoved = maskedCorrelation(baseline->leftGrey, movedBack, baseline->roi);
+            if (inPlace < kLeftCorrelation && whereMoved >= kLeftCorrelation) s.regionProblem = *problem;
+            // Not found where the shift says either (a shift beyond the correlation's window): the
+            // reason to give should the registration find nothing to rest on.
+            else if (inPlace < kLeftCorrelation) s.regionHint = *problem;
         }
     }
     if (!baseline && parameters.matchRegion) s.followUp = followUpRegion(s);
@@ -358,7 +367,7 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     result.registrationSource = motion.source;
     result.supportSpanPercent = motion.supportSpanPercent;
     timer.lap("register");
-    if (!motion.ok) return refused(result, motion.reason);
+    if (!motion.ok) return refused(result, current.regionHint.empty() ? motion.reason : current.regionHint);
     const RigidTransform& transform = motion.transform;
     result.registrationMm = cv::norm(transform.apply(plane.origin) - plane.origin);
     result.registrationDeg = std::acos(std::clamp((cv::trace(transform.rotation) - 1.0) / 2.0, -1.0, 1.0)) * 180.0 / kPi;

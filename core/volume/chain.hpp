@@ -39,6 +39,9 @@ struct Surface {
     // Why it cannot be compared with the baseline it was matched for (the object left the
     // matched region); empty when it can.
     std::string regionProblem;
+    // The scene's shift took the region out of the matched box but the region was not found there
+    // either: the reason given when the registration then finds no evidence.
+    std::string regionHint;
     Timings timingsMs;
 };
 
