@@ -31,12 +31,13 @@ struct PatchTrack {
 //
 // First the integer shift with the best zero-mean normalised correlation in the search area, then
 // a symmetric sub-pixel refinement: `from` is resampled at -δ/2 and `to` at +δ/2 around the
-// integer shift with the same Keys cubic, so the interpolator smooths both alike. The cubic is
-// exact for smooth texture; its phase error lives at high spatial frequencies (0.02 px at 1.2
-// rad/px), so both images are to be smoothed first (prepareForTracking), which leaves the
-// shift unbiased to a few thousandths of a pixel and takes noise out as well. A gain and an offset are fitted with the shift at every step, so a change of
-// light between the captures does not move it; they are reported because a layer of ice changes
-// them in a way light does not (light scales radiance: the offset stays zero).
+// integer shift with the same prefiltered cubic B-spline, so the interpolator treats both alike
+// and its phase error stays below a thousandth of a pixel on the smoothed images
+// (prepareForTracking, which takes noise out as well). A gain, an offset and a gain ramp across
+// the patch are fitted with the shift at every step, so neither a change of light between the
+// captures nor a surface turning against it moves the shift; the gain and offset are reported
+// because a layer of ice changes them in a way light does not (light scales radiance: the offset
+// stays zero).
 // Grey (any depth) to the float image trackPatch reads: Gaussian, σ = kTrackingSmoothingPx.
 inline constexpr double kTrackingSmoothingPx = 1.5;
 cv::Mat prepareForTracking(const cv::Mat& grey);
