@@ -41,7 +41,6 @@ namespace icewatch::volume {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kPi = 3.14159265358979323846;
 
 // Times consecutive stages with the clock the chain was given.
@@ -236,14 +235,14 @@ Surface VolumeChain::Impl::measure(const StereoPair& raw, const Surface* baselin
     s.quality = measureImageQuality(s.rectifiedLeft, s.roi);
     const int inside = cv::countNonZero(s.roi);
     s.validPercent = inside > 0 ? 100.0 * cv::countNonZero((s.disparity >= 0) & s.roi) / inside : 0.0;
+    if (baseline) s.shiftFromBaselinePx = globalImageShift(baseline->leftGrey, s.leftGrey, baseline->roi);
     if (baseline && !region.empty() && !imageProblem(s.quality, parameters, "current")) {
         // The object left the matched box when the scene's shift says so, the region no longer
-        // looks like the baseline's where it was, and it does where the shift put it.
-        // A wrong peak of the shift (bright rime patches that appeared, a repeated texture) leaves
-        // the region more alike where it was than where the peak says, and is the registration's
-        // to judge.
+        // looks like the baseline's where it was, and it does where the shift put it. A wrong
+        // peak of the shift (bright rime patches that appeared, a repeated texture) does not find
+        // the region there, and is the registration's to judge.
         constexpr double kLeftCorrelation = 0.5;
-        const cv::Point2d shift = globalImageShift(baseline->leftGrey, s.leftGrey, baseline->roi);
+        const cv::Point2d shift = *s.shiftFromBaselinePx;
         if (auto problem = regionProblem(region, size, shift)) {
             const double inPlace = maskedCorrelation(baseline->leftGrey, s.leftGrey, baseline->roi);
             cv::Mat movedBack;
@@ -346,7 +345,9 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     // The trackers start from the scene's global shift; a phase correlation can lock onto the
     // wrong peak (bright ice that appeared, a repeated texture), so a shift larger than any motion
     // the registration accepts is not believed and the search starts where the object was.
-    cv::Point2d prior = globalImageShift(baseline.leftGrey, current.leftGrey, baseline.roi);
+    cv::Point2d prior = current.shiftFromBaselinePx
+                            ? *current.shiftFromBaselinePx
+                            : globalImageShift(baseline.leftGrey, current.leftGrey, baseline.roi);
     if (cv::norm(prior) > p.maxRegistrationMm * impl_->focalPx / depthMm) prior = {0, 0};
     const std::vector<TextureTrack> tracks =
         trackTexture(before, after, baseline.roi, cv::Matx44d(impl_->calibration.Q), prior, trackOptions);
@@ -415,10 +416,8 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     timer.lap("uncertainty");
 
     // --- for people (core/pictures draws it) ---
-    cv::Mat shownThickness = finiteBoxMean(map.thickness, 2);
-    shownThickness.setTo(kNaN, map.inside == 0);
     const cv::Matx33d kInv = impl_->projection.get_minor<3, 3>(0, 0).inv();
-    result.thicknessImageMm = thicknessInImage(shownThickness, map.grid, plane, transform, kInv, currentOutline);
+    result.thicknessImageMm = thicknessInImage(ice.smoothedMm, map.grid, plane, transform, kInv, currentOutline);
     const GridSpec& grid = map.grid;
     for (int y = 0; y < clouds.current.rows; ++y)
         for (int x = 0; x < clouds.current.cols; ++x) {

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -42,6 +43,9 @@ struct Surface {
     // The scene's shift took the region out of the matched box but the region was not found there
     // either: the reason given when the registration then finds no evidence.
     std::string regionHint;
+    // The scene's shift from the baseline it was measured against (phase correlation in the
+    // baseline's region, px): the region check's and the trackers' start. Empty when measured alone.
+    std::optional<cv::Point2d> shiftFromBaselinePx;
     Timings timingsMs;
 };
 

@@ -78,11 +78,12 @@ IceSummary summarise(const ThicknessMap& map, Integration method) {
     s.areaMm2 = map.insideNodes * node;
     s.iceAreaMm2 = map.iceNodes * node;
     s.meanThicknessMm = s.areaMm2 > 0 ? s.volumeMm3 / s.areaMm2 : 0.0;
-    const cv::Mat smooth = finiteBoxMean(map.thickness, 2);
-    for (int j = 0; j < smooth.rows; ++j)
-        for (int i = 0; i < smooth.cols; ++i) {
-            const double t = smooth.at<double>(j, i);
-            if (map.inside.at<std::uint8_t>(j, i) && !std::isnan(t)) s.maxThicknessMm = std::max(s.maxThicknessMm, t);
+    s.smoothedMm = finiteBoxMean(map.thickness, 2);
+    s.smoothedMm.setTo(kNaN, map.inside == 0);
+    for (int j = 0; j < s.smoothedMm.rows; ++j)
+        for (int i = 0; i < s.smoothedMm.cols; ++i) {
+            const double t = s.smoothedMm.at<double>(j, i);
+            if (!std::isnan(t)) s.maxThicknessMm = std::max(s.maxThicknessMm, t);
         }
     return s;
 }

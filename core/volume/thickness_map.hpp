@@ -43,6 +43,7 @@ struct IceSummary {
     double meanThicknessMm = 0;  // volume over the region's area: what the alarms compare, steady
                                  // however far the ice mask reaches
     double maxThicknessMm = 0;   // of the thickness averaged over 5 × 5 nodes (one node is noise)
+    cv::Mat smoothedMm;          // that averaged map (CV_64F, NaN outside the region): what people see
 };
 IceSummary summarise(const ThicknessMap& map, Integration method);
 
