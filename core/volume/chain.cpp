@@ -211,8 +211,8 @@ Surface VolumeChain::Impl::measure(const StereoPair& raw, const Surface* baselin
     s.leftGrey.convertTo(s.rectifiedLeft, CV_8U);
     // Prepared here, once per surface: the daemon keeps the baseline's and estimates against it
     // every cycle.
-    s.trackLeft = placedInFrame(prepareForTracking(left), window, size, 0.0f);
-    s.trackRight = placedInFrame(prepareForTracking(right), window, size, 0.0f);
+    s.trackLeft = prepareForTracking(left, window.tl());
+    s.trackRight = prepareForTracking(right, window.tl());
     timer.lap("rectify");
     // The float average goes to the matcher as it is: its integer stages round it, its sub-pixel
     // refinement reads the fraction the averaging gained.

@@ -16,6 +16,7 @@
 #include "core/volume/image_quality.hpp"
 #include "core/volume/match_region.hpp"
 #include "core/volume/parameters.hpp"
+#include "core/volume/patch_tracker.hpp"
 #include "core/volume/uncertainty.hpp"
 
 namespace icewatch::volume {
@@ -27,7 +28,7 @@ using Timings = std::vector<std::pair<std::string, double>>;
 struct Surface {
     cv::Mat rectifiedLeft;  // CV_8U grey, rectified left eye (for people and the image checks)
     cv::Mat leftGrey;       // CV_32F grey, rectified, as measured (an averaged capture keeps its fraction)
-    cv::Mat trackLeft, trackRight;  // both eyes as the texture trackers read them (prepareForTracking)
+    TrackingImage trackLeft, trackRight;  // both eyes as the texture trackers read them, over the matched window
     cv::Mat disparity;      // CV_32F, px, stereo::kInvalidDisparity where none
     cv::Mat points;         // CV_32FC3, mm, left rectified camera frame, NaN where none
     cv::Mat roi;            // CV_8U, 255 inside the object's outline (rectified left pixels)

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include <opencv2/imgproc.hpp>
@@ -21,21 +22,41 @@ namespace {
 // of a capture share that fraction, so the bias did not average out and tilted the registration.
 constexpr double kSplinePole = -0.2679491924311228;  // √3 - 2
 // The recursive prefilter's influence falls as |pole|^k: beyond this many samples it is below 1e-7
-// of a grey level, so a patch's coefficients are computed from its neighbourhood alone.
+// of a grey level, so the window's mirrored edges do not reach a sample taken this far inside.
 constexpr int kSplineMargin = 12;
 
 // In place: samples -> cubic B-spline coefficients along one line (mirror boundaries).
-void splineCoefficients(double* line, int n, std::ptrdiff_t stride) {
+void splineCoefficients(double* line, int n) {
     if (n < 2) return;
     const double z = kSplinePole;
-    auto at = [&](int k) -> double& { return line[k * stride]; };
-    double sum = at(0), power = z;
-    for (int k = 1; k < std::min(n, 2 * kSplineMargin); ++k, power *= z) sum += power * at(k);
-    at(0) = sum;
-    for (int k = 1; k < n; ++k) at(k) += z * at(k - 1);
-    at(n - 1) = (z / (z * z - 1.0)) * (at(n - 1) + z * at(n - 2));
-    for (int k = n - 2; k >= 0; --k) at(k) = z * (at(k + 1) - at(k));
-    for (int k = 0; k < n; ++k) at(k) *= 6.0;
+    double sum = line[0], power = z;
+    for (int k = 1; k < std::min(n, 2 * kSplineMargin); ++k, power *= z) sum += power * line[k];
+    line[0] = sum;
+    for (int k = 1; k < n; ++k) line[k] += z * line[k - 1];
+    line[n - 1] = (z / (z * z - 1.0)) * (line[n - 1] + z * line[n - 2]);
+    for (int k = n - 2; k >= 0; --k) line[k] = z * (line[k + 1] - line[k]);
+    for (int k = 0; k < n; ++k) line[k] *= 6.0;
+}
+
+// The coefficients of the whole image, rows then columns (the spline is separable), in double
+// precision; fixed bands of lines, so the result does not depend on the number of threads.
+cv::Mat splineCoefficientImage(const cv::Mat& grey) {
+    cv::Mat c;
+    grey.convertTo(c, CV_64F);
+    cv::parallel_for_(cv::Range(0, c.rows), [&](const cv::Range& rows) {
+        for (int y = rows.start; y < rows.end; ++y) splineCoefficients(c.ptr<double>(y), c.cols);
+    });
+    cv::parallel_for_(cv::Range(0, c.cols), [&](const cv::Range& cols) {
+        std::vector<double> line(static_cast<std::size_t>(c.rows));
+        for (int x = cols.start; x < cols.end; ++x) {
+            for (int y = 0; y < c.rows; ++y) line[static_cast<std::size_t>(y)] = c.at<double>(y, x);
+            splineCoefficients(line.data(), c.rows);
+            for (int y = 0; y < c.rows; ++y) c.at<double>(y, x) = line[static_cast<std::size_t>(y)];
+        }
+    });
+    cv::Mat out;
+    c.convertTo(out, CV_32F);
+    return out;
 }
 
 // Cubic B-spline weights for the taps at -1, 0, 1, 2 of a fraction t in [0, 1).
@@ -44,32 +65,24 @@ std::array<double, 4> splineWeights(double t) {
     return {s * s * s / 6.0, (4.0 - 6.0 * t2 + 3.0 * t3) / 6.0, (1.0 + 3.0 * t + 3.0 * t2 - 3.0 * t3) / 6.0, t3 / 6.0};
 }
 
-// The (2h+1)² samples of `image` around the real position `centre`, every sample shifted by the
-// same fraction, so the spline is separable with one set of weights. False near the border (the
-// prefilter's margin included).
-bool samplePatch(const cv::Mat& image, cv::Point2d centre, int h, std::vector<double>& out) {
-    const double fx = std::floor(centre.x), fy = std::floor(centre.y);
+// The (2h+1)² samples of `image` around the real frame position `centre`, every sample shifted by
+// the same fraction, so the spline is separable with one set of weights. False where a tap comes
+// within the prefilter's margin of the window's edge.
+bool samplePatch(const TrackingImage& image, cv::Point2d centre, int h, std::vector<double>& out) {
+    const cv::Point2d local = centre - cv::Point2d(image.origin);
+    const double fx = std::floor(local.x), fy = std::floor(local.y);
     const int ix = static_cast<int>(fx), iy = static_cast<int>(fy);
-    const int m = kSplineMargin, x0 = ix - h - 1 - m, y0 = iy - h - 1 - m;
-    const int width = 2 * h + 4 + 2 * m, height = width;
-    if (x0 < 0 || y0 < 0 || x0 + width > image.cols || y0 + height > image.rows) return false;
-    thread_local std::vector<double> c;
-    c.resize(static_cast<std::size_t>(width) * height);
-    for (int r = 0; r < height; ++r) {
-        const float* row = image.ptr<float>(y0 + r) + x0;
-        double* line = c.data() + static_cast<std::size_t>(r) * width;
-        for (int k = 0; k < width; ++k) line[k] = row[k];
-        splineCoefficients(line, width, 1);
-    }
-    for (int k = 0; k < width; ++k) splineCoefficients(c.data() + k, height, width);
-    const auto wx = splineWeights(centre.x - fx), wy = splineWeights(centre.y - fy);
-    const int side = 2 * h + 1;
-    std::vector<double> rows(static_cast<std::size_t>(side + 3) * side);
+    const int m = kSplineMargin, x0 = ix - h - 1, y0 = iy - h - 1, side = 2 * h + 1;
+    if (x0 < m || y0 < m || x0 + side + 3 + m > image.spline.cols || y0 + side + 3 + m > image.spline.rows) return false;
+    const auto wx = splineWeights(local.x - fx), wy = splineWeights(local.y - fy);
+    thread_local std::vector<double> rows;
+    rows.resize(static_cast<std::size_t>(side + 3) * side);
     for (int r = 0; r < side + 3; ++r) {
-        const double* row = c.data() + static_cast<std::size_t>(m + r) * width + m;
+        const float* row = image.spline.ptr<float>(y0 + r) + x0;
+        double* to = rows.data() + static_cast<std::size_t>(r) * side;
         for (int col = 0; col < side; ++col) {
-            const double* p = row + col;
-            rows[static_cast<std::size_t>(r) * side + col] = wx[0] * p[0] + wx[1] * p[1] + wx[2] * p[2] + wx[3] * p[3];
+            const float* p = row + col;
+            to[col] = wx[0] * p[0] + wx[1] * p[1] + wx[2] * p[2] + wx[3] * p[3];
         }
     }
     out.resize(static_cast<std::size_t>(side) * side);
@@ -94,16 +107,16 @@ struct IntegerMatch {
     cv::Point2d subpixel;
 };
 
-IntegerMatch integerSearch(const cv::Mat& from, const cv::Mat& to, cv::Point at, cv::Point2d prior,
+IntegerMatch integerSearch(const TrackingImage& from, const TrackingImage& to, cv::Point at, cv::Point2d prior,
                            const PatchTrackOptions& o) {
     const int r = o.radiusPx, sx = o.searchPx, sy = o.horizontalOnly ? 0 : o.searchPx;
     const cv::Point centre(at.x + static_cast<int>(std::lround(prior.x)), at.y + static_cast<int>(std::lround(prior.y)));
     const cv::Rect templ(at.x - r, at.y - r, 2 * r + 1, 2 * r + 1);
     const cv::Rect area(centre.x - r - sx, centre.y - r - sy, 2 * (r + sx) + 1, 2 * (r + sy) + 1);
-    const cv::Rect fromBounds(0, 0, from.cols, from.rows), toBounds(0, 0, to.cols, to.rows);
+    const cv::Rect fromBounds = from.frameRect(), toBounds = to.frameRect();
     if ((templ & fromBounds) != templ || (area & toBounds) != area) return {};
     cv::Mat scores;
-    cv::matchTemplate(to(area), from(templ), scores, cv::TM_CCOEFF_NORMED);
+    cv::matchTemplate(to.grey(area - to.origin), from.grey(templ - from.origin), scores, cv::TM_CCOEFF_NORMED);
     cv::Point best;
     cv::minMaxLoc(scores, nullptr, nullptr, nullptr, &best);
     // A peak on the edge of the search area may be the slope of one outside it.
@@ -121,16 +134,25 @@ IntegerMatch integerSearch(const cv::Mat& from, const cv::Mat& to, cv::Point at,
 
 }  // namespace
 
-cv::Mat prepareForTracking(const cv::Mat& grey) {
-    cv::Mat f, out;
+TrackingImage prepareForTracking(const cv::Mat& grey, cv::Point origin) {
+    TrackingImage image;
+    cv::Mat f;
     grey.convertTo(f, CV_32F);
-    cv::GaussianBlur(f, out, {0, 0}, kTrackingSmoothingPx, kTrackingSmoothingPx, cv::BORDER_REFLECT);
-    return out;
+    cv::GaussianBlur(f, image.grey, {0, 0}, kTrackingSmoothingPx, kTrackingSmoothingPx, cv::BORDER_REFLECT);
+    image.spline = splineCoefficientImage(image.grey);
+    image.origin = origin;
+    return image;
 }
 
-PatchTrack trackPatch(const cv::Mat& from, const cv::Mat& to, cv::Point at, cv::Point2d prior,
+double splineValueAt(const TrackingImage& image, cv::Point2d at) {
+    std::vector<double> one;
+    if (!samplePatch(image, at, 0, one)) return std::numeric_limits<double>::quiet_NaN();
+    return one.front();
+}
+
+PatchTrack trackPatch(const TrackingImage& from, const TrackingImage& to, cv::Point at, cv::Point2d prior,
                       const PatchTrackOptions& o) {
-    CV_Assert(from.type() == CV_32FC1 && to.type() == CV_32FC1);
+    CV_Assert(from.grey.type() == CV_32FC1 && to.grey.type() == CV_32FC1);
     PatchTrack track;
     const IntegerMatch start = integerSearch(from, to, at, prior, o);
     if (!start.found) return track;

@@ -38,11 +38,30 @@ struct PatchTrack {
 // captures nor a surface turning against it moves the shift; the gain and offset are reported
 // because a layer of ice changes them in a way light does not (light scales radiance: the offset
 // stays zero).
-// Grey (any depth) to the float image trackPatch reads: Gaussian, σ = kTrackingSmoothingPx.
-inline constexpr double kTrackingSmoothingPx = 1.5;
-cv::Mat prepareForTracking(const cv::Mat& grey);
+// An image as the trackers read it, over a window of the frame: the smoothed grey for the integer
+// search, and its cubic B-spline coefficients for the sub-pixel refinement, computed once per
+// image (the exact recursive prefilter over whole rows and columns) rather than per patch.
+struct TrackingImage {
+    cv::Mat grey;      // CV_32FC1, Gaussian-smoothed (kTrackingSmoothingPx)
+    cv::Mat spline;    // CV_32FC1, its cubic B-spline coefficients
+    cv::Point origin;  // the frame pixel of grey(0, 0)
 
-PatchTrack trackPatch(const cv::Mat& from, const cv::Mat& to, cv::Point at, cv::Point2d prior,
+    bool empty() const { return grey.empty(); }
+    cv::Rect frameRect() const { return {origin, grey.size()}; }
+};
+
+// Grey (any depth) seen over the frame window starting at `origin`, to the image trackPatch reads:
+// Gaussian, σ = kTrackingSmoothingPx, and the spline's coefficients.
+inline constexpr double kTrackingSmoothingPx = 1.5;
+TrackingImage prepareForTracking(const cv::Mat& grey, cv::Point origin = {0, 0});
+
+// The spline's value at a real frame position (integer positions give `grey` back); NaN where the
+// spline is not exact (within the prefilter's margin of the window's edge).
+double splineValueAt(const TrackingImage& image, cv::Point2d at);
+
+// `at` and the shift are in frame pixels; a patch (with its search area) that does not lie inside
+// both windows is not found.
+PatchTrack trackPatch(const TrackingImage& from, const TrackingImage& to, cv::Point at, cv::Point2d prior,
                       const PatchTrackOptions& options = {});
 
 }  // namespace icewatch::volume

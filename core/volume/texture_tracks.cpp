@@ -94,8 +94,15 @@ TextureTrack trackOne(const RectifiedCapture& baseline, const RectifiedCapture& 
 std::vector<TextureTrack> trackTexture(const RectifiedCapture& baseline, const RectifiedCapture& current,
                                        const cv::Mat& object, const cv::Matx44d& q, cv::Point2d prior,
                                        const TextureTrackOptions& o) {
-    CV_Assert(baseline.left.type() == CV_32FC1 && current.left.type() == CV_32FC1 && object.type() == CV_8UC1);
+    CV_Assert(object.type() == CV_8UC1 && baseline.disparity.size() == object.size());
     const int r = o.patch.radiusPx;
+    // Where a patch, moved by the prior and searched around it, lies inside the current window.
+    const int reach = r + o.temporalSearchPx + 1;
+    const cv::Rect window = current.left.frameRect();
+    const cv::Rect reachable(window.x + reach + static_cast<int>(std::ceil(std::max(0.0, -prior.x))),
+                             window.y + reach + static_cast<int>(std::ceil(std::max(0.0, -prior.y))),
+                             window.width - 2 * reach - static_cast<int>(std::ceil(std::abs(prior.x))),
+                             window.height - 2 * reach - static_cast<int>(std::ceil(std::abs(prior.y))));
     const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_ELLIPSE, {2 * r + 1, 2 * r + 1});
     cv::Mat inside, outside;
     cv::erode(object, inside, kernel);
@@ -106,6 +113,7 @@ std::vector<TextureTrack> trackTexture(const RectifiedCapture& baseline, const R
         for (int x = o.stepPx / 2; x < object.cols; x += o.stepPx) {
             const bool in = inside.at<std::uint8_t>(y, x) != 0;
             if (!in && outside.at<std::uint8_t>(y, x) != 0) continue;  // astride the outline
+            if (!reachable.contains({x, y})) continue;
             if (!(baseline.disparity.at<float>(y, x) > 0)) continue;
             pixels.emplace_back(x, y);
             onObject.push_back(in ? 1 : 0);

@@ -10,8 +10,8 @@ namespace icewatch::volume {
 
 // Both captures of one scene, rectified, as the tracker reads them.
 struct RectifiedCapture {
-    cv::Mat left, right;  // CV_32FC1 grey, 0..255, smoothed by prepareForTracking (patch_tracker.hpp)
-    cv::Mat disparity;    // CV_32F left-view disparities from the matcher, < 0 where none
+    TrackingImage left, right;  // as prepareForTracking (patch_tracker.hpp) made them, over the matched window
+    cv::Mat disparity;          // CV_32F left-view disparities from the matcher, frame-sized, < 0 where none
 };
 
 struct TextureTrackOptions {
@@ -55,7 +55,8 @@ struct TextureTrack {
 //   3. the current disparity = baseline disparity + left shift - right shift, and both points
 //      lifted to 3-D with Q; the covariance follows from the tracks' own covariances.
 // Samples lie on a regular grid inside `object` (eroded by the patch radius) and, as background,
-// outside it (dilated by the radius), where the baseline has a disparity. `prior` is the expected
+// outside it (dilated by the radius), where the baseline has a disparity and the current
+// capture's window holds the patch and its search. `prior` is the expected
 // image motion (e.g. from a global correlation). Work is split into fixed row bands, so the result
 // does not depend on the number of threads.
 std::vector<TextureTrack> trackTexture(const RectifiedCapture& baseline, const RectifiedCapture& current,

@@ -16,8 +16,8 @@ namespace {
 // texture, as a sensor's pixel integrates light, so the shift is exact for the pixels too.
 // `contrast`: the texture's amplitude in grey levels; `shading`: a change of the gain across the
 // image, per 100 px in x (a surface turning against the light).
-cv::Mat texturedView(cv::Size size, cv::Point2d shift, double gain, double whiten, double noise, std::uint32_t seed,
-                     double contrast = 8.0, double shading = 0.0) {
+cv::Mat sensorView(cv::Size size, cv::Point2d shift, double gain, double whiten, double noise, std::uint32_t seed,
+                   double contrast = 8.0, double shading = 0.0) {
     constexpr int kSamples = 4;
     cv::Mat image(size, CV_32F);
     std::mt19937 random(seed);
@@ -35,7 +35,13 @@ cv::Mat texturedView(cv::Size size, cv::Point2d shift, double gain, double white
             const double seen = localGain * albedo * (1.0 - whiten) + whiten * 240.0;
             image.at<float>(y, x) = static_cast<float>(seen + noise * gauss(random));
         }
-    return prepareForTracking(image);
+    return image;
+}
+
+// The same, as the trackers read it.
+TrackingImage texturedView(cv::Size size, cv::Point2d shift, double gain, double whiten, double noise, std::uint32_t seed,
+                           double contrast = 8.0, double shading = 0.0) {
+    return prepareForTracking(sensorView(size, shift, gain, whiten, noise, seed, contrast, shading));
 }
 
 struct Bias {
@@ -44,10 +50,10 @@ struct Bias {
     int found = 0;
 };
 
-Bias trackGrid(const cv::Mat& from, const cv::Mat& to, cv::Point2d truth) {
+Bias trackGrid(const TrackingImage& from, const TrackingImage& to, cv::Point2d truth) {
     Bias b;
-    for (int y = 30; y < from.rows - 30; y += 25)
-        for (int x = 30; x < from.cols - 30; x += 25) {
+    for (int y = 30; y < from.grey.rows - 30; y += 25)
+        for (int x = 30; x < from.grey.cols - 30; x += 25) {
             const PatchTrack t = trackPatch(from, to, {x, y}, {0, 0});
             if (!t.found) continue;
             ++b.found;
@@ -63,10 +69,10 @@ Bias trackGrid(const cv::Mat& from, const cv::Mat& to, cv::Point2d truth) {
 
 TEST(PatchTracker, RecoversSubpixelShiftsWithoutBias) {
     const cv::Size size(400, 300);
-    const cv::Mat from = texturedView(size, {0, 0}, 1.0, 0.0, 0.4, 1);
+    const TrackingImage from = texturedView(size, {0, 0}, 1.0, 0.0, 0.4, 1);
     for (const double fraction : {0.1, 0.25, 0.4, 0.5, 0.7, 0.9}) {
         const cv::Point2d truth(2.0 + fraction, -1.0 + 0.5 * fraction);
-        const cv::Mat to = texturedView(size, truth, 1.0, 0.0, 0.4, 2);
+        const TrackingImage to = texturedView(size, truth, 1.0, 0.0, 0.4, 2);
         const Bias b = trackGrid(from, to, truth);
         EXPECT_GT(b.found, 100) << fraction;
         EXPECT_LT(std::abs(b.meanError), 0.01) << "fraction " << fraction;
@@ -78,7 +84,7 @@ TEST(PatchTracker, RecoversSubpixelShiftsWithoutBias) {
 // weak texture, without noise, it must be far below the tracker's noise.
 TEST(PatchTracker, NoBiasAtAnyFractionOfAPixel) {
     const cv::Size size(300, 220);
-    const cv::Mat from = texturedView(size, {0, 0}, 1.0, 0.0, 0.0, 1, 3.0);
+    const TrackingImage from = texturedView(size, {0, 0}, 1.0, 0.0, 0.0, 1, 3.0);
     for (const double fraction : {0.1, 0.25, 0.4, 0.57, 0.71, 0.9}) {
         const cv::Point2d truth(fraction, 1.0 + 0.5 * fraction);
         const Bias b = trackGrid(from, texturedView(size, truth, 1.0, 0.0, 0.0, 2, 3.0), truth);
@@ -91,7 +97,7 @@ TEST(PatchTracker, NoBiasAtAnyFractionOfAPixel) {
 // constant over the patch would take the ramp for a shift.
 TEST(PatchTracker, AShadingRampAcrossThePatchMovesNoShift) {
     const cv::Size size(300, 220);
-    const cv::Mat from = texturedView(size, {0, 0}, 1.0, 0.0, 0.0, 1, 3.0);
+    const TrackingImage from = texturedView(size, {0, 0}, 1.0, 0.0, 0.0, 1, 3.0);
     const cv::Point2d truth(0.3, 0.2);
     const Bias b = trackGrid(from, texturedView(size, truth, 1.0, 0.0, 0.0, 2, 3.0, 0.02), truth);
     EXPECT_GT(b.found, 50);
@@ -100,9 +106,9 @@ TEST(PatchTracker, AShadingRampAcrossThePatchMovesNoShift) {
 
 TEST(PatchTracker, ALightChangeMovesNeitherTheShiftNorTheOffset) {
     const cv::Size size(400, 300);
-    const cv::Mat from = texturedView(size, {0, 0}, 1.0, 0.0, 0.4, 3);
+    const TrackingImage from = texturedView(size, {0, 0}, 1.0, 0.0, 0.4, 3);
     const cv::Point2d truth(1.3, 0.6);
-    const cv::Mat to = texturedView(size, truth, 0.85, 0.0, 0.4, 4);
+    const TrackingImage to = texturedView(size, truth, 0.85, 0.0, 0.4, 4);
     const Bias b = trackGrid(from, to, truth);
     EXPECT_GT(b.found, 100);
     EXPECT_LT(std::abs(b.meanError), 0.01);
@@ -114,8 +120,8 @@ TEST(PatchTracker, ALightChangeMovesNeitherTheShiftNorTheOffset) {
 
 TEST(PatchTracker, AWhiteLayerShowsAsAnOffset) {
     const cv::Size size(200, 200);
-    const cv::Mat from = texturedView(size, {0, 0}, 1.0, 0.0, 0.4, 5);
-    const cv::Mat to = texturedView(size, {0.5, 0}, 1.0, 0.2, 0.4, 6);  // 20 % blended towards white
+    const TrackingImage from = texturedView(size, {0, 0}, 1.0, 0.0, 0.4, 5);
+    const TrackingImage to = texturedView(size, {0.5, 0}, 1.0, 0.2, 0.4, 6);  // 20 % blended towards white
     const PatchTrack t = trackPatch(from, to, {100, 100}, {0, 0});
     ASSERT_TRUE(t.found);
     EXPECT_GT(t.offset, 4.0 * t.offsetSigma);
@@ -123,10 +129,41 @@ TEST(PatchTracker, AWhiteLayerShowsAsAnOffset) {
 }
 
 TEST(PatchTracker, RefusesWhatItCannotSee) {
-    const cv::Mat flat = prepareForTracking(cv::Mat(100, 100, CV_32F, cv::Scalar(128)));
+    const TrackingImage flat = prepareForTracking(cv::Mat(100, 100, CV_32F, cv::Scalar(128)));
     EXPECT_FALSE(trackPatch(flat, flat, {50, 50}, {0, 0}).found);  // no texture
-    const cv::Mat textured = texturedView({100, 100}, {0, 0}, 1.0, 0.0, 0.0, 7);
+    const TrackingImage textured = texturedView({100, 100}, {0, 0}, 1.0, 0.0, 0.0, 7);
     EXPECT_FALSE(trackPatch(textured, textured, {5, 5}, {0, 0}).found);  // patch off the image
+}
+
+// The spline passes through every sample: the prefilter is exact.
+TEST(PatchTracker, TheSplineInterpolatesTheSamples) {
+    cv::Mat raw(90, 120, CV_32F);
+    cv::randu(raw, 0, 255);  // the hardest case: no smoothness between the samples
+    const TrackingImage whole = prepareForTracking(raw);
+    for (int y = 20; y < 70; y += 7)
+        for (int x = 20; x < 100; x += 9) {
+            EXPECT_NEAR(splineValueAt(whole, {double(x), double(y)}), whole.grey.at<float>(y, x), 1e-3) << x << "," << y;
+        }
+    EXPECT_TRUE(std::isnan(splineValueAt(whole, {3.0, 40.0})));  // inside the prefilter's margin
+}
+
+TEST(PatchTracker, AWindowTracksAsTheWholeFrame) {
+    const cv::Size size(300, 220);
+    const TrackingImage from = texturedView(size, {0, 0}, 1.0, 0.0, 0.3, 1);
+    const cv::Mat seen = sensorView(size, {0.6, -0.3}, 1.0, 0.0, 0.3, 2);
+    const TrackingImage to = prepareForTracking(seen);
+    // A window's own smoothing and prefilter differ from the frame's only near its edge (the
+    // mirrored border's influence falls below 1e-7 within the prefilter's margin).
+    const cv::Rect window(60, 40, 180, 140);
+    const TrackingImage part = prepareForTracking(seen(window), window.tl());
+    for (const cv::Point at : {cv::Point(150, 110), cv::Point(120, 90), cv::Point(180, 130)}) {
+        const PatchTrack a = trackPatch(from, to, at, {0, 0});
+        const PatchTrack b = trackPatch(from, part, at, {0, 0});
+        ASSERT_TRUE(a.found && b.found) << at;
+        EXPECT_NEAR(a.shift.x, b.shift.x, 1e-6);
+        EXPECT_NEAR(a.shift.y, b.shift.y, 1e-6);
+    }
+    EXPECT_FALSE(trackPatch(from, part, {70, 110}, {0, 0}).found);  // the patch reaches out of the window
 }
 
 }  // namespace
