@@ -66,7 +66,9 @@ SceneFiles loadSceneDirectory(const std::filesystem::path& dir, const RecordingR
             sink(readFrame(single), single.string());
         }
         AveragedCapture averaged = accumulator.finish();
-        if (averaged.frame.empty()) throw Error(kExitDataErr, recording.string() + ": capture: " + averaged.reason);
+        if (averaged.frame.empty() && scene.unusable.empty()) {
+            scene.unusable = recording.string() + ": capture: " + averaged.reason;
+        }
         return averaged;
     };
     scene.before = readCapture("before");

@@ -31,14 +31,17 @@ using RecordingReader = std::function<void(const std::filesystem::path& dir, con
 // recording is never held whole. truth.json is never read here.
 struct SceneFiles {
     calib::StereoCalibration calibration;
-    AveragedCapture before, after;  // each with a frame
+    AveragedCapture before, after;  // each with a frame, unless `unusable` says why not
     std::optional<std::vector<cv::Point2d>> roi;
+    // Why a capture was read but had too few usable frames (dark, blurred, moving: the frames'
+    // health and stillness checks), naming it; empty when both have a frame. A scene the camera
+    // could not see well is a measurement to refuse, not malformed input.
+    std::string unusable;
 };
 
 // Throws Error naming the file: kExitNoInput when one is missing, kExitDataErr when its content
 // does not fit (unreadable image, frame size not twice the calibration's eye, captures of
-// different sizes, too few usable frames to average). A recording needs `readRecording`
-// (kExitUsage without it).
+// different sizes). A recording needs `readRecording` (kExitUsage without it).
 SceneFiles loadSceneDirectory(const std::filesystem::path& dir, const RecordingReader& readRecording = {},
                               const CaptureAverageOptions& averaging = {});
 

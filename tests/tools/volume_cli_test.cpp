@@ -83,6 +83,24 @@ TEST(VolumeCli, FrameOfWrongSizeIsNamed) {
     EXPECT_NE(r.err.find("before.png"), std::string::npos) << r.err;
 }
 
+// A recording the camera could not see well in (too dark for any frame to pass its health check)
+// is a measurement refused with the frames' reasons, not malformed input.
+TEST(VolumeCli, ACaptureWithoutUsableFramesIsRefusedWithTheReason) {
+    const auto dir = test::freshTempDir() / "dark";
+    const auto rendered = synth(dir, {"--scene", "block", "--ice-volume-mm3", "1000", "--mode", "640x240",
+                                      "--supersampling", "1", "--frames", "2", "--light-change", "0.2"});
+    ASSERT_EQ(rendered.status, 0) << rendered.err;
+    const auto r = runVolume(dir);
+    EXPECT_EQ(r.status, kExitFailure) << r.err;
+    const auto out = nlohmann::json::parse(r.out);
+    EXPECT_EQ(out.at("status"), "refused");
+    const std::string reason = out.at("reason");
+    EXPECT_NE(reason.find("after: capture: 0 usable frames of 2"), std::string::npos) << reason;
+    EXPECT_NE(reason.find("000001.jpg"), std::string::npos) << reason;
+    EXPECT_EQ(out.at("current_capture").at("frames_dropped").size(), 2u);
+    EXPECT_EQ(out.at("baseline_capture").at("frames_used"), 2);
+}
+
 TEST(VolumeCli, CalibrationOfAnotherModeIsRefused) {
     const auto base = test::freshTempDir();
     const auto dir = smallScene(base);

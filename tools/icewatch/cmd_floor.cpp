@@ -97,6 +97,7 @@ void addFloorCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
         run = [o] {
             const std::filesystem::path dir = o->scene;
             const volume::SceneFiles scene = volume::loadSceneDirectory(dir, readCaptureRecording);
+            if (!scene.unusable.empty()) throw Error(kExitDataErr, scene.unusable);
             requireIdealCalibration(scene.calibration, dir / "calibration.yaml");
             const cv::Size eye = scene.calibration.imageSize;
             const cv::Mat truthBefore = readTruthMap(dir / "truth_disparity_before.pfm", eye);

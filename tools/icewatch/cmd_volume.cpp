@@ -107,6 +107,20 @@ void addVolumeCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunctio
             volume::CaptureAverageOptions averaging;
             averaging.health = configuration.daemon.health;
             const volume::SceneFiles scene = volume::loadSceneDirectory(o->scene, readCaptureRecording, averaging);
+            if (!scene.unusable.empty()) {
+                // Nothing to measure: refused like any capture the gate turns away, with the
+                // frames' own reasons.
+                if (o->json) {
+                    const nlohmann::json out{{"status", "refused"},
+                                             {"reason", scene.unusable},
+                                             {"baseline_capture", captureJson(scene.before)},
+                                             {"current_capture", captureJson(scene.after)}};
+                    std::cout << out.dump() << "\n";
+                } else {
+                    std::cout << "refused: " << scene.unusable << "\n";
+                }
+                return static_cast<int>(kExitFailure);
+            }
             if (scene.roi) {
                 parameters.roiPolygon.clear();
                 for (const auto& p : *scene.roi) {
