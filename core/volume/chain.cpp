@@ -29,6 +29,7 @@
 #include "core/stereo/matcher.hpp"
 #include "core/volume/height_grid.hpp"
 #include "core/volume/ice_mask.hpp"
+#include "core/volume/matcher_push.hpp"
 #include "core/volume/motion_evidence.hpp"
 #include "core/volume/plane_clouds.hpp"
 #include "core/volume/registration.hpp"
@@ -379,6 +380,10 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     }
     const cv::Mat possibleIce = iceMask(baseline.roi, tracks, motion.clean, p.trackStepPx, p.iceMaskGrowPx);
     result.iceMaskPercent = 100.0 * cv::countNonZero(possibleIce) / std::max(1, cv::countNonZero(baseline.roi));
+    const MatcherPush push = matcherPush(tracks, motion.clean, baseline.disparity, current.disparity, possibleIce,
+                                         evidence.fit.correlationFactor);
+    result.matcherPushPx = push.meanPx;
+    result.matcherPushSigmaPx = push.sigmaPx;
 
     // --- both clouds on the baseline's plane, strays out ---
     const cv::Mat currentOutline = outlineInCurrent(baseline.roi, plane, transform, impl_->projection, p.edgeMarginPx);
@@ -411,7 +416,7 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     timer.lap("integrate");
 
     // --- uncertainty ---
-    result.budget = volumeUncertainty(map, plane, motion, {impl_->focalPx, impl_->baselineMm, depthMm}, p, result.volumeMm3);
+    result.budget = volumeUncertainty(map, plane, motion, push, {impl_->focalPx, impl_->baselineMm, depthMm}, p, result.volumeMm3);
     result.uncertaintyMm3 = expandedUncertainty(result.budget, p.coverageFactor);
     timer.lap("uncertainty");
 

@@ -73,6 +73,8 @@ struct VolumeResult {
     double supportSpanPercent = 0;  // extent of the unchanged surface the registration rests on
     double iceAreaMm2 = 0;       // where thickness was integrated: possible ice, grown by the matcher's reach
     double iceMaskPercent = 0;   // of the region
+    double matcherPushPx = 0;    // the matcher's change against the tracks' on clean texture (matcher_push.hpp)
+    double matcherPushSigmaPx = 0;  // and its standard error
     Timings timingsMs;
 
     // For people (core/pictures draws them): the thickness where it lies in the current rectified

@@ -74,6 +74,9 @@ TextureTrack trackOne(const RectifiedCapture& baseline, const RectifiedCapture& 
     const double currentDisparity = disparity + left.shift.x - right.shift.x;
     if (!(currentDisparity > 0)) return out;
     cv::Matx33d jacobian;
+    out.baselineDisparity = disparity;
+    out.currentPixel = cv::Point2d(at) + left.shift;
+    out.currentDisparity = currentDisparity;
     out.baselineMm = lift(q, at.x, at.y, disparity);
     out.currentMm = lift(q, at.x + left.shift.x, at.y + left.shift.y, currentDisparity, &jacobian);
     // (x, y, d) of the current point: x and y from the left track, d from both; the baseline's

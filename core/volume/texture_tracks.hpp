@@ -40,6 +40,9 @@ struct TextureTrack {
     State state = State::Untracked;
     cv::Vec3d baselineMm;     // left rectified camera frame
     cv::Vec3d currentMm;
+    double baselineDisparity = 0;  // px, re-measured by the stereo track at `pixel`
+    cv::Point2d currentPixel;      // where the left patch was found in the current capture
+    double currentDisparity = 0;   // px, there
     cv::Matx33d covarianceMm2 = cv::Matx33d::zeros();  // of currentMm - baselineMm
     double zncc = 0;
     double offsetGrey = 0;    // photometric offset of the left eye's temporal track

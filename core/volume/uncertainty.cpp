@@ -65,7 +65,8 @@ double edgeIntegral(const ThicknessMap& map) {
 }  // namespace
 
 UncertaintyBudget volumeUncertainty(const ThicknessMap& map, const PlaneFrame& plane, const MotionEstimate& motion,
-                                    const ViewGeometry& view, const Parameters& p, double volumeMm3) {
+                                    const MatcherPush& push, const ViewGeometry& view, const Parameters& p,
+                                    double volumeMm3) {
     const double iceAreaMm2 = map.iceNodes * map.grid.areaPerNodeMm2();
     const double depthPerPxMm = view.depthMm * view.depthMm / (view.focalPx * view.baselineMm);  // ΔZ of 1 px
     const double pixelMm = view.depthMm / view.focalPx;
@@ -76,6 +77,9 @@ UncertaintyBudget volumeUncertainty(const ThicknessMap& map, const PlaneFrame& p
     b.noiseMm3 = iceAreaMm2 * pointSigmaMm / std::sqrt(independent);
     b.registrationMm3 = registrationSigma(volumeGradient(map, plane), motion);
     b.trackingMm3 = p.trackBiasPx * depthPerPxMm * iceAreaMm2;
+    // The mean alone: the push's scatter is the matcher's and the tracks' noise at single samples,
+    // which the noise and registration terms already carry for the whole area.
+    b.pushMm3 = std::abs(push.meanPx) * depthPerPxMm * iceAreaMm2;
     b.biasMm3 = p.subpixelBiasPx * depthPerPxMm * iceAreaMm2;
     b.edgeMm3 = p.edgeUncertaintyPx * pixelMm * edgeIntegral(map);
     b.scaleMm3 = 0.01 * p.scaleUncertaintyPercent * std::abs(volumeMm3);
@@ -84,7 +88,7 @@ UncertaintyBudget volumeUncertainty(const ThicknessMap& map, const PlaneFrame& p
 
 double expandedUncertainty(const UncertaintyBudget& b, double coverageFactor) {
     return coverageFactor * std::sqrt(b.noiseMm3 * b.noiseMm3 + b.registrationMm3 * b.registrationMm3 +
-                                      b.trackingMm3 * b.trackingMm3 +
+                                      b.trackingMm3 * b.trackingMm3 + b.pushMm3 * b.pushMm3 +
                                       b.biasMm3 * b.biasMm3 + b.edgeMm3 * b.edgeMm3 + b.scaleMm3 * b.scaleMm3);
 }
 

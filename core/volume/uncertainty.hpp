@@ -1,5 +1,6 @@
 #pragma once
 
+#include "core/volume/matcher_push.hpp"
 #include "core/volume/motion_evidence.hpp"
 #include "core/volume/parameters.hpp"
 #include "core/volume/thickness_map.hpp"
@@ -11,6 +12,7 @@ struct UncertaintyBudget {
     double noiseMm3 = 0;          // per-point depth noise over the independent samples
     double registrationMm3 = 0;   // the registration's own uncertainty, propagated
     double trackingMm3 = 0;       // a bias of the texture trackers common to every sample
+    double pushMm3 = 0;           // the matcher's change departing from the tracks' on clean texture
     double biasMm3 = 0;           // systematic sub-pixel disparity bias
     double edgeMm3 = 0;           // where the ice's edges are
     double scaleMm3 = 0;          // the depth scale and the matcher's response on ice, relative to the volume
@@ -33,13 +35,17 @@ struct ViewGeometry {
 //   tracking      a disparity-change bias common to every texture track (track_bias_px): the
 //                 registration's covariance and jackknife see the tracks' scatter, not a bias they
 //                 share, and a shared bias moves the whole registered surface along the view;
+//   push          the matcher's change of disparity against the tracks' on the clean texture
+//                 where the volume is integrated (matcher_push.hpp): its mean over the ice area
+//                 (the scatter of single samples is the noise the other terms carry);
 //   bias          a systematic sub-pixel disparity bias (subpixel_bias_px) over the ice area;
 //   edge          a shift of σ_e of every edge of height H and length L moves σ_e·H·L, i.e.
 //                 σ_e·∫|∇t|; the noise floor of |∇t| (its median) is taken off so that noise does
 //                 not pass for edges;
 //   scale         scale_uncertainty_percent of the volume.
 UncertaintyBudget volumeUncertainty(const ThicknessMap& map, const PlaneFrame& plane, const MotionEstimate& motion,
-                                    const ViewGeometry& view, const Parameters& parameters, double volumeMm3);
+                                    const MatcherPush& push, const ViewGeometry& view, const Parameters& parameters,
+                                    double volumeMm3);
 
 // coverage · √(Σ parts²).
 double expandedUncertainty(const UncertaintyBudget& budget, double coverageFactor);

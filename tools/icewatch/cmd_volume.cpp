@@ -198,6 +198,7 @@ void addVolumeCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunctio
                 out["uncertainty_budget_mm3"] = {{"noise", r.budget.noiseMm3},
                                                  {"registration", r.budget.registrationMm3},
                                                  {"tracking", r.budget.trackingMm3},
+                                                 {"push", r.budget.pushMm3},
                                                  {"bias", r.budget.biasMm3},
                                                  {"edge", r.budget.edgeMm3},
                                                  {"scale", r.budget.scaleMm3}};
@@ -206,6 +207,8 @@ void addVolumeCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunctio
                 out["area_mm2"] = r.areaMm2;
                 out["ice_area_mm2"] = r.iceAreaMm2;
                 out["ice_mask_percent"] = r.iceMaskPercent;
+                out["matcher_push_px"] = r.matcherPushPx;
+                out["matcher_push_sigma_px"] = r.matcherPushSigmaPx;
                 out["filled_percent"] = r.filledPercent;
             } else {
                 out["reason"] = r.reason;
