@@ -213,10 +213,12 @@ PatchTrack trackPatch(const TrackingImage& from, const TrackingImage& to, cv::Po
                 const cv::Vec<double, kUnknowns> row(jx, o.horizontalOnly ? 0.0 : jy, -a, -1.0, -a * u, -a * v);
                 for (int i = 0; i < kUnknowns; ++i) {
                     rhs[i] -= row[i] * e;
-                    for (int j = 0; j < kUnknowns; ++j) normal(i, j) += row[i] * row[j];
+                    for (int j = i; j < kUnknowns; ++j) normal(i, j) += row[i] * row[j];  // upper half
                 }
                 sse += e * e;
             }
+        for (int i = 1; i < kUnknowns; ++i)
+            for (int j = 0; j < i; ++j) normal(i, j) = normal(j, i);
         if (o.horizontalOnly) normal(1, 1) = 1;
         cv::Vec<double, kUnknowns> update;
         if (!cv::solve(normal, rhs, update, cv::DECOMP_CHOLESKY)) return track;
