@@ -144,6 +144,24 @@ TEST(VolumeChain, GlazeOverEverythingOnAMovedBladeWithoutBackgroundIsRefused) {
     EXPECT_FALSE(r.ok) << "a clear glaze over the whole moved blade leaves no evidence of its motion";
 }
 
+// One frame per capture: the matcher's surface moves where the tracks say the clean surface did
+// not (weak texture against the noise), and a budget that did not carry that push said ok at +25 %
+// against ±38 000 mm³ on this scene. Never ok with an error outside the uncertainty.
+TEST(VolumeChain, ASingleFrameOfRimePatchesIsRefusedOrInsideItsUncertainty) {
+    synth::SceneSpec spec = smallBladeSpec();
+    spec.ice = synth::IceKind::Patches;
+    spec.iceVolumeMm3 = 197717;
+    spec.seed = 4;
+    spec.frames = 1;
+    const AveragedBlade b = measureAveragedBlade(spec, stereo::Method::Paper);
+    const VolumeResult& r = b.result;
+    if (!r.ok) return;  // a refusal is an honest answer
+    EXPECT_LT(std::abs(r.volumeMm3 - b.scene.iceVolumeMm3), r.uncertaintyMm3)
+        << "ok with " << r.volumeMm3 << " ± " << r.uncertaintyMm3 << ", truth " << b.scene.iceVolumeMm3
+        << ", push " << r.matcherPushPx << " ± " << r.matcherPushSigmaPx << " px";
+    EXPECT_GT(r.budget.pushMm3, 0.0);
+}
+
 // Share of the region's pixels where the cropped, banded match and the whole-frame, full-range
 // match agree: both invalid, or both valid within `tolerancePx`.
 double agreeingPercent(const Surface& cropped, const Surface& full, const cv::Mat& region, float tolerancePx) {
