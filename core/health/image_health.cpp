@@ -35,7 +35,9 @@ ImageHealth checkImageHealth(const cv::Mat& image, const config::ImageHealthConf
     cv::Scalar mean, stddev;
     cv::meanStdDev(grey, mean, stddev);
     h.meanLevel = mean[0];
-    h.contrast = stddev[0];
+    // A dim image's grey differences scaled up to the reference exposure (a black frame stays at zero).
+    const double exposure = h.meanLevel > 1.0 ? std::max(1.0, kReferenceLevel / h.meanLevel) : 1.0;
+    h.contrast = stddev[0] * exposure;
     h.saturatedPercent = 100.0 * cv::countNonZero(grey >= 250) / static_cast<double>(grey.total());
     // Sharpness at quarter scale: sensor noise and JPEG blocking average out there while edges of
     // the blade survive, so the figure tells blur apart from a noisy but sharp image.
@@ -47,7 +49,7 @@ ImageHealth checkImageHealth(const cv::Mat& image, const config::ImageHealthConf
     const cv::Rect inner(1, 1, std::max(1, laplacian.cols - 2), std::max(1, laplacian.rows - 2));
     cv::Scalar lapMean, lapStddev;
     cv::meanStdDev(laplacian(inner & cv::Rect(0, 0, laplacian.cols, laplacian.rows)), lapMean, lapStddev);
-    h.sharpness = lapStddev[0] * lapStddev[0];
+    h.sharpness = lapStddev[0] * lapStddev[0] * exposure * exposure;
 
     if (h.meanLevel < limits.minMeanLevel) {
         h.problems.push_back({"dark", "mean level " + figure(h.meanLevel) + " below " + figure(limits.minMeanLevel)});

@@ -19,12 +19,18 @@ struct HealthProblem {
 struct ImageHealth {
     double meanLevel = 0.0;         // mean grey level, 0-255
     double saturatedPercent = 0.0;  // pixels at 250 or more
+    // Both as if a scene dimmer than kReferenceLevel were lit to it: light scales every grey
+    // difference alike, so a darker day does not read as blur or fog (which change the image's
+    // structure, not its exposure). Brighter scenes are taken as they are (the limits were set on
+    // well-lit ones).
     double sharpness = 0.0;         // variance of the 3x3 Laplacian of the grey image at 1/4 scale
     double contrast = 0.0;          // standard deviation of the grey level
     std::vector<HealthProblem> problems;
 
     bool ok() const { return problems.empty(); }
 };
+
+inline constexpr double kReferenceLevel = 128.0;
 
 // Judges one 8-bit image (grey or BGR). Throws InvalidInput on an empty or non-8-bit image.
 ImageHealth checkImageHealth(const cv::Mat& image, const config::ImageHealthConfig& limits);

@@ -73,6 +73,16 @@ TEST(ImageHealth, DropletsBlur) {
     EXPECT_GT(checkImageHealth(texturedScene(), kLimits).sharpness, 10 * h.sharpness);
 }
 
+// A dimmer day scales every grey difference alike; blur and fog change the structure instead.
+TEST(ImageHealth, LessLightIsNeitherBlurNorFog) {
+    const ImageHealth bright = checkImageHealth(texturedScene(), kLimits);
+    const ImageHealth dim = checkImageHealth(texturedScene(0.4), kLimits);  // 40 % of the light
+    EXPECT_TRUE(dim.ok()) << (dim.problems.empty() ? "" : dim.problems[0].reason);
+    EXPECT_NEAR(dim.meanLevel, 0.4 * bright.meanLevel, 1.0);
+    EXPECT_NEAR(dim.contrast, bright.contrast, 0.03 * bright.contrast);
+    EXPECT_NEAR(dim.sharpness, bright.sharpness, 0.06 * bright.sharpness);
+}
+
 TEST(ImageHealth, RejectsWhatIsNotAnImage) {
     EXPECT_THROW(checkImageHealth(cv::Mat(), kLimits), InvalidInput);
     EXPECT_THROW(checkImageHealth(cv::Mat(10, 10, CV_32FC1, 0.5f), kLimits), InvalidInput);
