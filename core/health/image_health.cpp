@@ -35,8 +35,7 @@ ImageHealth checkImageHealth(const cv::Mat& image, const config::ImageHealthConf
     cv::Scalar mean, stddev;
     cv::meanStdDev(grey, mean, stddev);
     h.meanLevel = mean[0];
-    // A dim image's grey differences scaled up to the reference exposure (a black frame stays at zero).
-    const double exposure = h.meanLevel > 1.0 ? std::max(1.0, kReferenceLevel / h.meanLevel) : 1.0;
+    const double exposure = exposureScale(h.meanLevel);
     h.contrast = stddev[0] * exposure;
     h.saturatedPercent = 100.0 * cv::countNonZero(grey >= 250) / static_cast<double>(grey.total());
     // Sharpness at quarter scale: sensor noise and JPEG blocking average out there while edges of

@@ -32,6 +32,12 @@ struct ImageHealth {
 
 inline constexpr double kReferenceLevel = 128.0;
 
+// The factor that brings the grey differences of an image of this mean level to the reference
+// exposure: 1 at or above it, and for a black image (nothing to scale).
+inline double exposureScale(double meanLevel) {
+    return meanLevel > 1.0 && meanLevel < kReferenceLevel ? kReferenceLevel / meanLevel : 1.0;
+}
+
 // Judges one 8-bit image (grey or BGR). Throws InvalidInput on an empty or non-8-bit image.
 ImageHealth checkImageHealth(const cv::Mat& image, const config::ImageHealthConfig& limits);
 

@@ -3,6 +3,8 @@
 // keeps sensor noise from passing for texture.
 #include "core/volume/image_quality.hpp"
 
+#include "core/health/image_health.hpp"
+
 #include <cmath>
 #include <sstream>
 
@@ -24,7 +26,7 @@ ImageQuality measureImageQuality(const cv::Mat& grey, const cv::Mat& roi) {
     cv::Sobel(smooth, gx, CV_32F, 1, 0, 3, 1.0 / 8.0);
     cv::Sobel(smooth, gy, CV_32F, 0, 1, 3, 1.0 / 8.0);
     cv::magnitude(gx, gy, magnitude);
-    q.contrast = cv::mean(magnitude, mask)[0];
+    q.contrast = cv::mean(magnitude, mask)[0] * health::exposureScale(q.meanGrey);
     return q;
 }
 

@@ -13,7 +13,10 @@ namespace icewatch::volume {
 struct ImageQuality {
     double meanGrey = 0;          // 0..255
     double saturatedPercent = 0;  // pixels at >= 250
-    double contrast = 0;          // mean gradient magnitude after a light blur, grey levels per pixel
+    // Mean gradient magnitude after a light blur, grey levels per pixel, read at the reference
+    // exposure when the region is dimmer (health::exposureScale): less light is not less texture
+    // to the matcher, whose costs compare grey levels relative to their neighbours.
+    double contrast = 0;
 };
 
 // grey: CV_8U; roi: CV_8U mask (empty = whole image).

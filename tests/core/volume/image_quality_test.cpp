@@ -1,0 +1,36 @@
+#include "core/volume/image_quality.hpp"
+
+#include <gtest/gtest.h>
+
+namespace icewatch::volume {
+namespace {
+
+cv::Mat texture(double gain) {
+    cv::Mat noise(120, 160, CV_32F);
+    cv::RNG(3).fill(noise, cv::RNG::NORMAL, 0.0, 6.0);
+    cv::Mat grey;
+    cv::Mat(noise + 110.0).convertTo(grey, CV_8U, gain);
+    return grey;
+}
+
+// Less light scales every grey difference alike: a dim capture has the texture a bright one had.
+TEST(ImageQuality, ContrastIsReadAtTheReferenceExposure) {
+    const ImageQuality bright = measureImageQuality(texture(1.0), {});
+    const ImageQuality dim = measureImageQuality(texture(0.4), {});
+    EXPECT_NEAR(dim.meanGrey, 0.4 * bright.meanGrey, 1.0);
+    EXPECT_NEAR(dim.contrast, bright.contrast, 0.08 * bright.contrast);
+    // Above the reference level the figure is the image's own.
+    const ImageQuality lit = measureImageQuality(texture(1.6), {});
+    EXPECT_NEAR(lit.contrast, 1.6 * 110.0 / 128.0 * bright.contrast, 0.08 * lit.contrast);
+}
+
+TEST(ImageQuality, ATexturelessCaptureIsRefusedHoweverBright) {
+    Parameters p;
+    const ImageQuality flat = measureImageQuality(cv::Mat(120, 160, CV_8U, cv::Scalar(60)), {});
+    const auto problem = imageProblem(flat, p, "current");
+    ASSERT_TRUE(problem.has_value());
+    EXPECT_NE(problem->find("current image blurred or without texture"), std::string::npos) << *problem;
+}
+
+}  // namespace
+}  // namespace icewatch::volume
