@@ -16,6 +16,7 @@ public:
     CensusMatcher(Method method, const Parameters& parameters);
     // Inputs already validated (matcher.cpp).
     cv::Mat compute(const cv::Mat& left, const cv::Mat& right, DisparityRange range);
+    void releaseBuffers();
 
 private:
     Method method_;

@@ -60,6 +60,12 @@ public:
     // The band 0 .. maxDisparity-1.
     cv::Mat compute(const cv::Mat& left, const cv::Mat& right, int maxDisparity);
 
+    // Gives back the buffers the last compute() kept (the next one allocates them again). For a
+    // caller that matches seldom: the chain matches one capture a cycle, minutes apart, and the
+    // buffers (about 170 MB for a blade at 3840x1080) would sit idle in between, on a box of a
+    // few GB, to save about 50 ms of page faults a cycle.
+    void releaseBuffers();
+
     Method method() const;
     const Parameters& parameters() const;
 

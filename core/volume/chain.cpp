@@ -219,6 +219,7 @@ Surface VolumeChain::Impl::measure(const StereoPair& raw, const Surface* baselin
     s.matched = region;
     s.matched.band = region.empty() ? stereo::DisparityRange{0, parameters.maxDisparity} : region.band;
     cv::Mat disparity = matcher.compute(left, right, s.matched.band);
+    matcher.releaseBuffers();  // a capture a cycle: Matcher::releaseBuffers says why
     if (!region.empty()) {
         // Left of the region's box the window only served as the right eye's reach.
         disparity(cv::Rect(0, 0, region.box.x - window.x, window.height)).setTo(stereo::kInvalidDisparity);
