@@ -186,7 +186,7 @@ Surface VolumeChain::measureSurface(const StereoPair& raw, const Surface& baseli
 Surface VolumeChain::Impl::measureFrame(const cv::Mat& sideBySideFrame, const Surface* baseline) {
     Timings split;
     StageTimer timer(clock, split);
-    const StereoPair raw = splitSideBySide(sideBySideFrame);
+    const StereoPair raw = sideBySideViews(sideBySideFrame);
     timer.lap("split");
     Surface surface = measure(raw, baseline);
     surface.timingsMs.insert(surface.timingsMs.begin(), split.front());
