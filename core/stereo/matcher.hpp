@@ -38,7 +38,8 @@ inline constexpr int kMinDisparityBand = 3;
 
 // One stereo matcher. Buffers are allocated on the first compute() for an image size and band
 // width and reused for every later pair of the same size and width (a change reallocates them to
-// the new size, smaller ones too); a matcher is not thread-safe (use one per thread).
+// the new size, smaller ones too) until releaseBuffers(); a matcher is not thread-safe (use one
+// per thread).
 class Matcher {
 public:
     explicit Matcher(Method method, const Parameters& parameters = {});
