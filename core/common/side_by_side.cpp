@@ -7,6 +7,11 @@
 namespace icewatch {
 
 StereoPair splitSideBySide(const cv::Mat& frame) {
+    const StereoPair views = sideBySideViews(frame);
+    return {views.left.clone(), views.right.clone()};
+}
+
+StereoPair sideBySideViews(const cv::Mat& frame) {
     if (frame.empty()) {
         throw InvalidInput("side-by-side frame is empty");
     }
@@ -16,8 +21,8 @@ StereoPair splitSideBySide(const cv::Mat& frame) {
     }
     const int eyeWidth = frame.cols / 2;
     StereoPair pair;
-    pair.left = frame(cv::Rect(0, 0, eyeWidth, frame.rows)).clone();
-    pair.right = frame(cv::Rect(eyeWidth, 0, eyeWidth, frame.rows)).clone();
+    pair.left = frame(cv::Rect(0, 0, eyeWidth, frame.rows));
+    pair.right = frame(cv::Rect(eyeWidth, 0, eyeWidth, frame.rows));
     return pair;
 }
 

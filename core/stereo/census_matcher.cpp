@@ -32,6 +32,18 @@ void intensityImage(const cv::Mat& cleaned, const cv::Mat& floatInput, const cv:
 CensusMatcher::CensusMatcher(Method method, const Parameters& parameters)
     : method_(method), parameters_(parameters) {}
 
+void CensusMatcher::releaseBuffers() {
+    costs_ = {};
+    scratch_ = {};
+    rightCosts_ = {};
+    leftCensus_ = {};
+    rightCensus_ = {};
+    arms_ = {};
+    rightArms_ = {};
+    floatLeft_.release();
+    floatRight_.release();
+}
+
 cv::Mat CensusMatcher::compute(const cv::Mat& left, const cv::Mat& right, DisparityRange range) {
     const Parameters& p = parameters_;
     // 0. Colour and grey versions of both eyes (grey input is matched as colour with R = G = B); a

@@ -10,12 +10,13 @@ namespace icewatch::stereo {
 
 // The Census-based methods, Paper (Wei et al. 2025) and AdCensus (Mei et al. 2011): the same
 // stages with a different matching cost. Owns its scratch, allocated once per image size and band
-// width.
+// width, until releaseBuffers().
 class CensusMatcher {
 public:
     CensusMatcher(Method method, const Parameters& parameters);
     // Inputs already validated (matcher.cpp).
     cv::Mat compute(const cv::Mat& left, const cv::Mat& right, DisparityRange range);
+    void releaseBuffers();
 
 private:
     Method method_;

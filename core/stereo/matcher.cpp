@@ -89,6 +89,11 @@ cv::Mat Matcher::compute(const cv::Mat& left, const cv::Mat& right, DisparityRan
     throw Error(kExitSoftware, "stereo method \"" + methodName(impl_->method) + "\" is not available");
 }
 
+void Matcher::releaseBuffers() {
+    impl_->sgbm.releaseBuffers();
+    impl_->census.releaseBuffers();
+}
+
 Method Matcher::method() const { return impl_->method; }
 const Parameters& Matcher::parameters() const { return impl_->parameters; }
 

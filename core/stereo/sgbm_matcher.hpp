@@ -15,6 +15,7 @@ public:
     explicit SgbmMatcher(const Parameters& parameters);
     // 8-bit inputs already validated (matcher.cpp rounds float ones).
     cv::Mat compute(const cv::Mat& left, const cv::Mat& right, DisparityRange range);
+    void releaseBuffers() { sgbm_.release(); }  // OpenCV's matcher keeps its buffer
 
 private:
     Parameters parameters_;

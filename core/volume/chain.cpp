@@ -187,7 +187,7 @@ Surface VolumeChain::measureSurface(const StereoPair& raw, const Surface& baseli
 Surface VolumeChain::Impl::measureFrame(const cv::Mat& sideBySideFrame, const Surface* baseline) {
     Timings split;
     StageTimer timer(clock, split);
-    const StereoPair raw = splitSideBySide(sideBySideFrame);
+    const StereoPair raw = sideBySideViews(sideBySideFrame);
     timer.lap("split");
     Surface surface = measure(raw, baseline);
     surface.timingsMs.insert(surface.timingsMs.begin(), split.front());
@@ -220,6 +220,7 @@ Surface VolumeChain::Impl::measure(const StereoPair& raw, const Surface* baselin
     s.matched = region;
     s.matched.band = region.empty() ? stereo::DisparityRange{0, parameters.maxDisparity} : region.band;
     cv::Mat disparity = matcher.compute(left, right, s.matched.band);
+    matcher.releaseBuffers();  // a capture a cycle: Matcher::releaseBuffers says why
     if (!region.empty()) {
         // Left of the region's box the window only served as the right eye's reach.
         disparity(cv::Rect(0, 0, region.box.x - window.x, window.height)).setTo(stereo::kInvalidDisparity);

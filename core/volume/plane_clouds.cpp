@@ -1,6 +1,7 @@
 // Both captures' points on the baseline's plane (plane_clouds.hpp).
 #include "core/volume/plane_clouds.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -16,6 +17,18 @@ namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // Current points this far behind the baseline's lowest point are background, not the object.
 constexpr double kBehindMm = 10.0;
+
+// The smallest box holding every pixel of both lists (one pixel at the origin when both are empty).
+cv::Rect boundingBox(const std::vector<cv::Point>& a, const std::vector<cv::Point>& b) {
+    if (a.empty() && b.empty()) return {0, 0, 1, 1};
+    cv::Point lo(std::numeric_limits<int>::max(), std::numeric_limits<int>::max()), hi(-1, -1);
+    for (const auto* list : {&a, &b})
+        for (const cv::Point& q : *list) {
+            lo = {std::min(lo.x, q.x), std::min(lo.y, q.y)};
+            hi = {std::max(hi.x, q.x), std::max(hi.y, q.y)};
+        }
+    return {lo, hi + cv::Point(1, 1)};
+}
 
 }  // namespace
 
@@ -48,15 +61,17 @@ PlaneClouds planeClouds(const cv::Mat& baselinePoints, const cv::Mat& measured, 
             currentAt.emplace_back(x, y);
         }
     PlaneClouds clouds;
-    clouds.baseline = cv::Mat(baselinePoints.size(), CV_64FC3, cv::Scalar::all(kNaN));
-    clouds.current = cv::Mat(currentPoints.size(), CV_64FC3, cv::Scalar::all(kNaN));
+    clouds.box = boundingBox(baselineAt, currentAt);
+    clouds.baseline = cv::Mat(clouds.box.size(), CV_64FC3, cv::Scalar::all(kNaN));
+    clouds.current = cv::Mat(clouds.box.size(), CV_64FC3, cv::Scalar::all(kNaN));
+    const cv::Point origin = clouds.box.tl();
     const auto keepBaseline = knnKeepMask(baselineList, p.knnK, p.knnTheta);
     const auto keepCurrent = knnKeepMask(currentList, p.knnK, p.knnTheta);
     for (std::size_t i = 0; i < baselineList.size(); ++i)
-        if (keepBaseline[i]) clouds.baseline.at<cv::Vec3d>(baselineAt[i]) = cv::Vec3d(baselineList[i]);
+        if (keepBaseline[i]) clouds.baseline.at<cv::Vec3d>(baselineAt[i] - origin) = cv::Vec3d(baselineList[i]);
     for (std::size_t i = 0; i < currentList.size(); ++i)
         if (keepCurrent[i]) {
-            clouds.current.at<cv::Vec3d>(currentAt[i]) = cv::Vec3d(currentList[i]);
+            clouds.current.at<cv::Vec3d>(currentAt[i] - origin) = cv::Vec3d(currentList[i]);
             ++clouds.currentPoints;
         }
     return clouds;

@@ -1,5 +1,7 @@
 // icewatch: the command-line program, one binary with subcommands like git. Each subcommand lives
 // in its own cmd_*.cpp; this file only dispatches and turns errors into exit statuses.
+#include <malloc.h>
+
 #include <cstdio>
 #include <exception>
 #include <iostream>
@@ -12,6 +14,10 @@
 
 int main(int argc, char** argv) {
     using namespace icewatch;
+    // Blocks of a megabyte or more (frames, surfaces, the matcher's volumes) from mmap and back to
+    // the system when freed, as in icewatchd: with glibc's adaptive threshold the frames of the
+    // burst average and the matcher's buffers, once freed, stayed resident for the whole run.
+    mallopt(M_MMAP_THRESHOLD, 1 << 20);
     CLI::App app{"icewatch: camera-based ice monitor for wind-turbine blades"};
     app.require_subcommand(1);
     app.set_version_flag("--version", std::string(ICEWATCH_VERSION));

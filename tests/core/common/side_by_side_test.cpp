@@ -21,6 +21,18 @@ TEST(SideBySide, LeftEyeIsLeftHalf) {
     EXPECT_EQ(pair.right.at<cv::Vec3b>(1, 0), cv::Vec3b(4, 1, 5));
 }
 
+TEST(SideBySide, ViewsShareTheFrame) {
+    cv::Mat frame(4, 6, CV_32FC1);
+    cv::randu(frame, 0, 255);
+    const StereoPair views = sideBySideViews(frame);
+    const StereoPair copies = splitSideBySide(frame);
+    EXPECT_EQ(cv::norm(views.left, copies.left, cv::NORM_INF), 0.0);
+    EXPECT_EQ(cv::norm(views.right, copies.right, cv::NORM_INF), 0.0);
+    frame.at<float>(1, 4) = -7.0f;  // right eye (1, 1)
+    EXPECT_EQ(views.right.at<float>(1, 1), -7.0f);
+    EXPECT_THROW(sideBySideViews(cv::Mat(2, 7, CV_8UC3)), InvalidInput);
+}
+
 TEST(SideBySide, JoinIsTheInverse) {
     cv::Mat frame(5, 10, CV_8UC1);
     cv::randu(frame, 0, 255);

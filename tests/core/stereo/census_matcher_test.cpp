@@ -123,6 +123,21 @@ TEST(CensusMatcher, GreyInputAndRepeatedCallsGiveTheSameAnswer) {
     EXPECT_GT(e.goodShare, 0.95);
 }
 
+TEST(CensusMatcher, ReleasedBuffersGiveTheSameAnswerAgain) {
+    cv::Mat left, right;
+    shiftedPair(90, 40, 4 * kSupersample + 3, left, right);
+    for (Method method : {Method::Paper, Method::AdCensus, Method::Sgbm}) {
+        Matcher matcher(method);
+        const cv::Mat kept = matcher.compute(left, right, 12);
+        matcher.releaseBuffers();
+        const cv::Mat afterRelease = matcher.compute(left, right, 12);
+        EXPECT_EQ(cv::norm(kept, afterRelease, cv::NORM_INF), 0.0) << methodName(method);
+        matcher.releaseBuffers();
+        matcher.releaseBuffers();  // twice: nothing left to give back, no harm
+        EXPECT_EQ(cv::norm(kept, matcher.compute(left, right, 12), cv::NORM_INF), 0.0) << methodName(method);
+    }
+}
+
 TEST(CensusMatcher, RejectsBadInput) {
     for (Method method : {Method::Paper, Method::AdCensus}) {
         Matcher matcher(method);
