@@ -52,11 +52,12 @@ struct TrackingImage {
 
 // Grey (any depth) seen over the frame window starting at `origin`, to the image trackPatch reads:
 // Gaussian, σ = kTrackingSmoothingPx, and the spline's coefficients. The smoothing keeps the
-// content the spline interpolates below Nyquist (9 % left there at 0.7 px) and the noise out of
+// content the spline interpolates below Nyquist (0.7 % left there at 1 px) and the noise out of
 // the integer search; more of it throws away the fine texture that places a patch: at 1.5 px the
-// registrations of averaged blades scattered twice as much (blades at 16 frames: 6 of 9 within
-// 5 % at 1.5 px, 8 of 9 at 0.7).
-inline constexpr double kTrackingSmoothingPx = 0.7;
+// registrations of averaged blades scattered more (blades at 16 frames: 6 of 9 within 5 % at
+// 1.5 px, 8 of 9 at 1 px). Less (0.7 px) helped the blades at 64 frames further but let the
+// plate's registration lean towards a new block (blocks 0.5 % lower on average).
+inline constexpr double kTrackingSmoothingPx = 1.0;
 TrackingImage prepareForTracking(const cv::Mat& grey, cv::Point origin = {0, 0});
 
 // The spline's value at a real frame position (integer positions give `grey` back); NaN where the

@@ -94,8 +94,8 @@ TEST(PatchTracker, NoBiasAtAnyFractionOfAPixel) {
 }
 
 // A texture finer than the composite's (features of 3 px, near what the sensor resolves): the
-// spline works closer to Nyquist there. Its bias, up to 0.0027 px at some fractions, must stay
-// well inside the budget's tracking term (track_bias_px, 0.01 px).
+// spline works closer to Nyquist there, and refined on the pixel grid alone its bias reached
+// 0.0027 px at some fractions; with the half-pixel grid beside it, under 0.0007 px.
 TEST(PatchTracker, NoBiasOnAFineTexture) {
     const cv::Size size(300, 220);
     const TrackingImage from = texturedView(size, {0, 0}, 1.0, 0.0, 0.0, 1, 3.0, 0.0, 3.0);
@@ -103,7 +103,7 @@ TEST(PatchTracker, NoBiasOnAFineTexture) {
         const cv::Point2d truth(fraction, 1.0 + 0.5 * fraction);
         const Bias b = trackGrid(from, texturedView(size, truth, 1.0, 0.0, 0.0, 2, 3.0, 0.0, 3.0), truth);
         EXPECT_GT(b.found, 50) << fraction;
-        EXPECT_LT(std::abs(b.meanError), 0.004) << "fraction " << fraction;
+        EXPECT_LT(std::abs(b.meanError), 0.0015) << "fraction " << fraction;
     }
 }
 
