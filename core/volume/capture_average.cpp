@@ -51,10 +51,19 @@ cv::Point2d globalShift(const cv::Mat& a, const cv::Mat& b) {
     return cv::Point2d((yy * bx - xy * by) / det, (xx * by - xy * bx) / det) * 2.0;
 }
 
-// Share of pixels (percent) whose difference stands out of the difference's own noise.
+// Share of pixels (percent) whose difference stands out of the difference's own noise. The
+// median and its spread are read on every 4th pixel of every 4th row (some 65 000 at 3840x1080,
+// plenty for two order statistics, and a sixteenth of the selection work a frame during a burst);
+// every pixel is then counted against them.
 double changedPercent(const cv::Mat& a, const cv::Mat& b) {
     cv::Mat diff = a - b;
-    std::vector<float> values(diff.begin<float>(), diff.end<float>());
+    constexpr int kStride = 4;
+    std::vector<float> values;
+    values.reserve(static_cast<std::size_t>((diff.rows / kStride + 1) * (diff.cols / kStride + 1)));
+    for (int y = 0; y < diff.rows; y += kStride) {
+        const float* row = diff.ptr<float>(y);
+        for (int x = 0; x < diff.cols; x += kStride) values.push_back(row[x]);
+    }
     const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
     std::nth_element(values.begin(), mid, values.end());
     const float median = *mid;
@@ -62,9 +71,12 @@ double changedPercent(const cv::Mat& a, const cv::Mat& b) {
     std::nth_element(values.begin(), mid, values.end());
     const double sigma = std::max(0.5, 1.4826 * *mid);
     const double cut = 6.0 * sigma;
-    int count = 0;
-    for (auto it = diff.begin<float>(); it != diff.end<float>(); ++it) count += std::abs(*it - median) > cut ? 1 : 0;
-    return 100.0 * count / static_cast<double>(diff.total());
+    std::size_t count = 0;
+    for (int y = 0; y < diff.rows; ++y) {
+        const float* row = diff.ptr<float>(y);
+        for (int x = 0; x < diff.cols; ++x) count += std::abs(row[x] - median) > cut ? 1 : 0;
+    }
+    return 100.0 * static_cast<double>(count) / static_cast<double>(diff.total());
 }
 
 
