@@ -152,13 +152,13 @@ double splineValueAt(const TrackingImage& image, cv::Point2d at) {
 
 namespace {
 
-// The symmetric sub-pixel refinement from the integer match, the patches sampled on the pixel grid
-// moved by `grid` (a fraction of a pixel).
+// The symmetric sub-pixel refinement from the integer match, starting `initial` px from its
+// integer shift, the patches sampled on the pixel grid moved by `grid` (a fraction of a pixel).
 PatchTrack refine(const TrackingImage& from, const TrackingImage& to, cv::Point at, const IntegerMatch& start,
-                  const PatchTrackOptions& o, cv::Point2d grid) {
+                  cv::Point2d initial, const PatchTrackOptions& o, cv::Point2d grid) {
     PatchTrack track;
     cv::Point whole = start.shift;
-    cv::Point2d delta = start.subpixel;
+    cv::Point2d delta = initial;
     const int r = o.radiusPx, side = 2 * r + 1, n = side * side;
     // to ≈ (gain + ramp·(u, v))·from + offset: the gain may change across the patch, as shading
     // does when the surface turns against the light; a ramp left out of the model correlates with
@@ -278,9 +278,11 @@ PatchTrack trackPatch(const TrackingImage& from, const TrackingImage& to, cv::Po
     // that moved without turning shares that fraction, so the error does not average out over the
     // patches (on fine texture, up to 0.003 px at 0.7 px smoothing): the shift refined on the
     // pixel grid and on the grid moved by half a pixel, averaged, cancels it.
-    PatchTrack track = refine(from, to, at, start, o, {0.0, 0.0});
+    PatchTrack track = refine(from, to, at, start, start.subpixel, o, {0.0, 0.0});
     if (!track.found) return track;
-    const PatchTrack shifted = refine(from, to, at, start, o, {0.5, o.horizontalOnly ? 0.0 : 0.5});
+    // The second refinement starts where the first ended: a step or two.
+    const PatchTrack shifted = refine(from, to, at, start, track.shift - cv::Point2d(start.shift), o,
+                                      {0.5, o.horizontalOnly ? 0.0 : 0.5});
     if (!shifted.found) return {};
     track.shift = 0.5 * (track.shift + shifted.shift);
     return track;
