@@ -21,11 +21,12 @@
 
 namespace icewatch::stereo::detail {
 
-void CensusImage::create(int w, int h, int wordsPerPixel) {
+void CensusImage::create(int w, int h, int wordsPerPixel, int firstStoredRow) {
     width = w;
     height = h;
     words = wordsPerPixel;
     first = 0;
+    firstRow = firstStoredRow;
     storedWidth = w;
     resizeExactly(data, static_cast<std::size_t>(w) * h * wordsPerPixel);
 }
@@ -378,12 +379,6 @@ void storeWordPairs(const cv::v_uint8 rows[16], std::uint64_t* words, int offset
     }
 }
 
-// The padded images the encoder reads, all of one step: grey with the sign bit flipped (see
-// ThresholdMaths), the edge-corner bits, and the same in the upper nibble for the odd neighbours.
-struct PaddedInputs {
-    cv::Mat grey, ec, ecHigh;
-};
-
 // ec << 4, by a 16-bit shift: the values are below 16, no bit crosses into the next byte.
 cv::Mat shiftedToHighNibble(const cv::Mat& ec) {
     cv::Mat high(ec.size(), CV_8UC1);
@@ -457,43 +452,66 @@ void encodeChunk(const ChunkCentre& at, const int* offsets, const WindowChunk& w
 
 }  // namespace
 
-void improvedCensus(const cv::Mat& grey, const cv::Mat& edgeCorner, int alpha, const cv::Mat& windowMask,
-                    CensusImage& out) {
+void CensusEncoder::prepareImproved(const cv::Mat& grey, const cv::Mat& edgeCorner, int alpha,
+                                    const cv::Mat& windowMask) {
     CV_Assert(grey.type() == CV_8UC1 && edgeCorner.type() == CV_8UC1 && grey.size() == edgeCorner.size());
-    out.create(grey.cols, grey.rows, kImprovedCensusWords);
-    const int cols = grey.cols;
+    CV_Assert(windowMask.empty() || (windowMask.type() == CV_8UC1 && windowMask.size() == grey.size()));
+    improved_ = true;
+    size_ = grey.size();
+    alpha_ = alpha;
+    windowMask_ = windowMask;
     // Extra columns on the right so the last chunk of a row, its window statistics included, can
     // load whole vectors.
-    cv::Mat padded;
-    PaddedInputs in;
-    cv::copyMakeBorder(grey, padded, kPad, kPad, kPad, kPad + 2 * kChunk, cv::BORDER_REPLICATE);
-    cv::copyMakeBorder(edgeCorner, in.ec, kPad, kPad, kPad, kPad + 2 * kChunk, cv::BORDER_REPLICATE);
-    in.ecHigh = shiftedToHighNibble(in.ec);
-    cv::bitwise_xor(padded, cv::Scalar::all(0x80), in.grey);
-    CV_Assert(padded.step == in.grey.step && in.grey.step == in.ec.step && in.ec.step == in.ecHigh.step);
-    const std::ptrdiff_t step = static_cast<std::ptrdiff_t>(in.grey.step);
-    std::vector<int> offsets;
+    cv::copyMakeBorder(grey, padded_, kPad, kPad, kPad, kPad + 2 * kChunk, cv::BORDER_REPLICATE);
+    cv::copyMakeBorder(edgeCorner, ec_, kPad, kPad, kPad, kPad + 2 * kChunk, cv::BORDER_REPLICATE);
+    ecHigh_ = shiftedToHighNibble(ec_);
+    cv::bitwise_xor(padded_, cv::Scalar::all(0x80), signedGrey_);
+    CV_Assert(padded_.step == signedGrey_.step && signedGrey_.step == ec_.step && ec_.step == ecHigh_.step);
+    const std::ptrdiff_t step = static_cast<std::ptrdiff_t>(signedGrey_.step);
+    offsets_.clear();
     for (int radius : {3, 4})
-        for (const cv::Point& o : windowOffsets(radius)) offsets.push_back(static_cast<int>(o.y * step + o.x));
+        for (const cv::Point& o : windowOffsets(radius)) offsets_.push_back(static_cast<int>(o.y * step + o.x));
+}
+
+void CensusEncoder::prepareMei(const cv::Mat& grey) {
+    CV_Assert(grey.type() == CV_8UC1);
+    improved_ = false;
+    size_ = grey.size();
+    cv::copyMakeBorder(grey, padded_, 3, 3, 4, 4, cv::BORDER_REPLICATE);
+}
+
+void CensusEncoder::encodeRows(int begin, int end, CensusImage& out) const {
+    CV_Assert(0 <= begin && begin <= end && end <= size_.height);
+    if (improved_) {
+        encodeImprovedRows(begin, end, out);
+    } else {
+        encodeMeiRows(begin, end, out);
+    }
+}
+
+void CensusEncoder::encodeImprovedRows(int rowBegin, int rowEnd, CensusImage& out) const {
+    out.create(size_.width, rowEnd - rowBegin, kImprovedCensusWords, rowBegin);
+    const int cols = size_.width;
+    const std::ptrdiff_t step = static_cast<std::ptrdiff_t>(signedGrey_.step);
     // Padded columns the chunks' windows cover.
     const int statColumns = (cols + kChunk - 1) / kChunk * kChunk + kChunk;
-    CV_Assert(statColumns <= padded.cols);
-    const bool masked = !windowMask.empty();
-    forEachStripe(grey.rows, [&](int, int begin, int end) {
+    CV_Assert(statColumns <= padded_.cols);
+    const bool masked = !windowMask_.empty();
+    forEachStripe(rowEnd - rowBegin, [&](int, int stripeBegin, int stripeEnd) {
         // Window sums, minima and maxima per row, vertical then horizontal, in 16- and 8-bit
         // vectors: several times fewer instructions than box filters, erosions and dilations of
         // the whole image, and no images of them.
         ColumnStats stats(statColumns);
-        const ThresholdMaths<47> thresholds7(alpha);
-        const ThresholdMaths<79> thresholds9(alpha);
+        const ThresholdMaths<47> thresholds7(alpha_);
+        const ThresholdMaths<79> thresholds9(alpha_);
         std::uint64_t tail[kChunk * kImprovedCensusWords];  // the last, partial chunk of a row
         const cv::v_uint8 all = cv::vx_setall_u8(0xFF), none = cv::vx_setzero_u8();
-        for (int y = begin; y < end; ++y) {
-            columnStats(padded.ptr<std::uint8_t>(y + kPad), step, statColumns, stats);
-            const std::uint8_t* mask = masked ? windowMask.ptr<std::uint8_t>(y) : nullptr;
+        for (int y = rowBegin + stripeBegin; y < rowBegin + stripeEnd; ++y) {
+            columnStats(padded_.ptr<std::uint8_t>(y + kPad), step, statColumns, stats);
+            const std::uint8_t* mask = masked ? windowMask_.ptr<std::uint8_t>(y) : nullptr;
             const std::ptrdiff_t rowCentre = (y + kPad) * step + kPad;
-            const ChunkCentre rowStart{in.grey.ptr<std::int8_t>() + rowCentre, in.ec.ptr<std::uint8_t>() + rowCentre,
-                                       in.ecHigh.ptr<std::uint8_t>() + rowCentre};
+            const ChunkCentre rowStart{signedGrey_.ptr<std::int8_t>() + rowCentre, ec_.ptr<std::uint8_t>() + rowCentre,
+                                       ecHigh_.ptr<std::uint8_t>() + rowCentre};
             for (int x0 = 0; x0 < cols; x0 += kChunk) {
                 const int count = std::min(kChunk, cols - x0);
                 const ChunkCentre at{rowStart.grey + x0, rowStart.ec + x0, rowStart.ecHigh + x0};
@@ -519,14 +537,40 @@ void improvedCensus(const cv::Mat& grey, const cv::Mat& edgeCorner, int alpha, c
                     thresholds9(trimmed, w9.hi, w9.lo);
                 }
                 if (masked) {
-                    encodeChunk<true>(at, offsets.data(), w7, w9, words);
+                    encodeChunk<true>(at, offsets_.data(), w7, w9, words);
                 } else {
-                    encodeChunk<false>(at, offsets.data(), w7, w9, words);
+                    encodeChunk<false>(at, offsets_.data(), w7, w9, words);
                 }
                 if (words == tail) std::copy_n(tail, count * kImprovedCensusWords, out.at(x0, y));
             }
         }
     });
+}
+
+void CensusEncoder::encodeMeiRows(int rowBegin, int rowEnd, CensusImage& out) const {
+    out.create(size_.width, rowEnd - rowBegin, 1, rowBegin);
+    forEachStripe(rowEnd - rowBegin, [&](int, int stripeBegin, int stripeEnd) {
+        for (int y = rowBegin + stripeBegin; y < rowBegin + stripeEnd; ++y)
+            for (int x = 0; x < size_.width; ++x) {
+                const int centre = padded_.at<std::uint8_t>(y + 3, x + 4);
+                std::uint64_t code = 0;
+                for (int dy = -3; dy <= 3; ++dy) {
+                    const std::uint8_t* row = padded_.ptr<std::uint8_t>(y + 3 + dy) + x + 4;
+                    for (int dx = -4; dx <= 4; ++dx) {
+                        if (dx == 0 && dy == 0) continue;
+                        code = (code << 1) | static_cast<std::uint64_t>(row[dx] < centre);
+                    }
+                }
+                *out.at(x, y) = code;
+            }
+    });
+}
+
+void improvedCensus(const cv::Mat& grey, const cv::Mat& edgeCorner, int alpha, const cv::Mat& windowMask,
+                    CensusImage& out) {
+    CensusEncoder encoder;
+    encoder.prepareImproved(grey, edgeCorner, alpha, windowMask);
+    encoder.encodeRows(0, grey.rows, out);
 }
 
 void improvedCensusReference(const cv::Mat& grey, const cv::Mat& edgeCorner, int alpha, const cv::Mat& windowMask,
@@ -553,25 +597,9 @@ void improvedCensusReference(const cv::Mat& grey, const cv::Mat& edgeCorner, int
 }
 
 void meiCensus(const cv::Mat& grey, CensusImage& out) {
-    CV_Assert(grey.type() == CV_8UC1);
-    out.create(grey.cols, grey.rows, 1);
-    cv::Mat padded;
-    cv::copyMakeBorder(grey, padded, 3, 3, 4, 4, cv::BORDER_REPLICATE);
-    forEachStripe(grey.rows, [&](int, int begin, int end) {
-        for (int y = begin; y < end; ++y)
-            for (int x = 0; x < grey.cols; ++x) {
-                const int centre = padded.at<std::uint8_t>(y + 3, x + 4);
-                std::uint64_t code = 0;
-                for (int dy = -3; dy <= 3; ++dy) {
-                    const std::uint8_t* row = padded.ptr<std::uint8_t>(y + 3 + dy) + x + 4;
-                    for (int dx = -4; dx <= 4; ++dx) {
-                        if (dx == 0 && dy == 0) continue;
-                        code = (code << 1) | static_cast<std::uint64_t>(row[dx] < centre);
-                    }
-                }
-                *out.at(x, y) = code;
-            }
-    });
+    CensusEncoder encoder;
+    encoder.prepareMei(grey);
+    encoder.encodeRows(0, grey.rows, out);
 }
 
 }  // namespace icewatch::stereo::detail

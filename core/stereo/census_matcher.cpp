@@ -13,6 +13,10 @@ using namespace detail;
 
 namespace {
 
+// Rows of Census codes held at once: a few MB at 1920 pixels a row, and enough rows that the
+// stripes of each block keep both cores busy.
+constexpr int kCensusBlockRows = 64;
+
 // The grey image the intensity refinement reads, CV_32FC1, from the cleaned 8-bit grey. Given a
 // float input (with its grey after the impulse repair, before smoothing), the float itself
 // wherever the cleaning only repaired impulses: those pixels take the repair. Once smoothing has
@@ -93,25 +97,25 @@ cv::Mat CensusMatcher::compute(const cv::Mat& left, const cv::Mat& right, Dispar
         smoothNoise(bgr, grey, p.noiseSmoothingGain, p.noiseGreyPassRange,
                     bandFollowsNoise ? &noise[isLeft ? 0 : 1] : nullptr);
     };
+    CensusEncoder encoders[2];
     auto prepareEye = [&](bool isLeft, int alpha) {
         cv::Mat& bgr = isLeft ? bgrLeft : bgrRight;
         cv::Mat& grey = isLeft ? greyLeft : greyRight;
         const cv::Rect& view = isLeft ? leftView : rightView;
         CostInputs& inputs = isLeft ? leftInputs : rightInputs;
-        CensusImage& census = isLeft ? leftCensus_ : rightCensus_;
+        CensusEncoder& encoder = encoders[isLeft ? 0 : 1];
         inputs.bgr = bgr(view);
         if (method_ == Method::Paper) {
             // Improved Census: window by gradient (left only: the left pixel decides, the right
             // image carries both codes), edge and corner bits; the gradient term's magnitudes.
             cv::Mat windowMask;
             if (isLeft) windowMask = censusWindowMask(grey, p.censusGradientThreshold);
-            improvedCensus(grey, edgeCornerBits(grey, p), alpha, windowMask, census);
+            encoder.prepareImproved(grey, edgeCornerBits(grey, p), alpha, windowMask);
             if (isLeft) inputs.windowMask = windowMask(view);
             inputs.gradient = channelGradientMagnitudes(bgr)(view);
         } else {
-            meiCensus(grey, census);
+            encoder.prepareMei(grey);
         }
-        census.viewColumns(view.x, view.width);
     };
     cv::parallel_for_(cv::Range(0, 2), [&](const cv::Range& r) {
         for (int eye = r.start; eye < r.end; ++eye) cleanEye(eye == 0);
@@ -145,10 +149,22 @@ cv::Mat CensusMatcher::compute(const cv::Mat& left, const cv::Mat& right, Dispar
         meanAlongRow(arms_, costs_, y);
         if (ownRightPass) meanAlongRow(rightArms_, rightCosts_, y);
     };
-    if (method_ == Method::Paper) {
-        paperCost(leftInputs, rightInputs, p, costs_, rowDone);
-    } else {
-        adCensusCost(leftInputs, rightInputs, p, costs_, rowDone);
+    // The Census codes a block of rows at a time (CensusEncoder says why), each eye's block with
+    // the other's as before, then that block's costs.
+    for (int begin = 0; begin < left.rows; begin += kCensusBlockRows) {
+        const cv::Range rows(begin, std::min(left.rows, begin + kCensusBlockRows));
+        cv::parallel_for_(cv::Range(0, 2), [&](const cv::Range& r) {
+            for (int eye = r.start; eye < r.end; ++eye) {
+                CensusImage& census = eye == 0 ? leftCensus_ : rightCensus_;
+                encoders[eye].encodeRows(rows.start, rows.end, census);
+                census.viewColumns(eye == 0 ? leftView.x : rightView.x, viewWidth);
+            }
+        }, 2);
+        if (method_ == Method::Paper) {
+            paperCost(leftInputs, rightInputs, p, costs_, rowDone, rows);
+        } else {
+            adCensusCost(leftInputs, rightInputs, p, costs_, rowDone, rows);
+        }
     }
 
     // 4. The right view, when it gets its own pass: the rest of its aggregation, scanlines

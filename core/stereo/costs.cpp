@@ -253,15 +253,17 @@ void costReference(const Terms& terms, const CostInputs& left, const CostInputs&
 
 template <class Terms>
 void costOptimised(const Terms& terms, const CostInputs& left, const CostInputs& right, CostVolume& out,
-                   const CostRowHook& rowDone) {
+                   const CostRowHook& rowDone, cv::Range rows) {
+    if (rows == cv::Range::all()) rows = cv::Range(0, left.bgr.rows);
+    CV_Assert(0 <= rows.start && rows.start <= rows.end && rows.end <= left.bgr.rows);
     const int width = left.bgr.cols;
     const int disparities = out.disparities;
     const int blocks = (disparities + kVec8 - 1) / kVec8 * kVec8;
     const int step = right.census->words;
-    forEachStripe(left.bgr.rows, [&](int, int begin, int end) {
+    forEachStripe(rows.size(), [&](int, int stripeBegin, int stripeEnd) {
         ReversedRow reversed;
         std::vector<std::uint16_t> gradientIndex(static_cast<std::size_t>(blocks));
-        for (int y = begin; y < end; ++y) {
+        for (int y = rows.start + stripeBegin; y < rows.start + stripeEnd; ++y) {
             reversed.fill(right.bgr, right.gradient, y, width);
             const auto* colour = left.bgr.ptr<cv::Vec3b>(y);
             const auto* grad = Terms::kUsesGradient ? left.gradient.ptr<cv::Vec3b>(y) : nullptr;
@@ -298,8 +300,8 @@ void costOptimised(const Terms& terms, const CostInputs& left, const CostInputs&
 }  // namespace
 
 void paperCost(const CostInputs& left, const CostInputs& right, const Parameters& parameters, CostVolume& out,
-               const CostRowHook& rowDone) {
-    costOptimised(PaperTerms(parameters), left, right, out, rowDone);
+               const CostRowHook& rowDone, cv::Range rows) {
+    costOptimised(PaperTerms(parameters), left, right, out, rowDone, rows);
 }
 
 void paperCostReference(const CostInputs& left, const CostInputs& right, const Parameters& parameters,
@@ -308,8 +310,8 @@ void paperCostReference(const CostInputs& left, const CostInputs& right, const P
 }
 
 void adCensusCost(const CostInputs& left, const CostInputs& right, const Parameters& parameters, CostVolume& out,
-                  const CostRowHook& rowDone) {
-    costOptimised(MeiTerms(parameters), left, right, out, rowDone);
+                  const CostRowHook& rowDone, cv::Range rows) {
+    costOptimised(MeiTerms(parameters), left, right, out, rowDone, rows);
 }
 
 void adCensusCostReference(const CostInputs& left, const CostInputs& right, const Parameters& parameters,

@@ -74,17 +74,19 @@ inline void prefetchCells(const std::uint16_t* cells, int count, bool forWriting
     }
 }
 
-// Per-pixel Census bit strings, `words` 64-bit words per pixel. After viewColumns, at(x, y) reads
-// the stored column first + x: the codes of a column band, computed on the whole image.
+// Per-pixel Census bit strings, `words` 64-bit words per pixel, of `height` image rows from
+// firstRow on (a block of rows: CensusEncoder). After viewColumns, at(x, y) reads the stored
+// column first + x: the codes of a column band, computed on the whole image.
 struct CensusImage {
     int width = 0;
     int height = 0;
     int words = 0;
     int first = 0;        // stored column of the view's column 0
     int storedWidth = 0;  // pixels per stored row
+    int firstRow = 0;     // image row of the stored row 0
     AlignedVector<std::uint64_t> data;  // each pixel's words on one cache line
 
-    void create(int w, int h, int wordsPerPixel);
+    void create(int w, int h, int wordsPerPixel, int firstStoredRow = 0);
     void viewColumns(int firstColumn, int count) {
         first = firstColumn;
         width = count;
@@ -94,7 +96,7 @@ struct CensusImage {
 
 private:
     std::size_t index(int x, int y) const {
-        return (static_cast<std::size_t>(y) * storedWidth + first + x) * words;
+        return (static_cast<std::size_t>(y - firstRow) * storedWidth + first + x) * words;
     }
 };
 
@@ -169,6 +171,31 @@ void improvedCensusReference(const cv::Mat& grey, const cv::Mat& edgeCorner, int
                              const cv::Mat& windowMask, CensusImage& out);
 // Mei's Census: 9x7 window on grey, 1 bit per neighbour (neighbour < centre), one word.
 void meiCensus(const cv::Mat& grey, CensusImage& out);
+// The codes of one image a block of rows at a time, as improvedCensus or meiCensus computes them
+// for the whole image. A row's matching costs need that row's codes only, and the whole image's
+// (64 bytes a pixel for the improved code) were the matcher's largest buffers after the cost
+// volumes; the matcher keeps a block's instead. prepare* copies what every block reads once.
+class CensusEncoder {
+public:
+    void prepareImproved(const cv::Mat& grey, const cv::Mat& edgeCorner, int alpha, const cv::Mat& windowMask);
+    void prepareMei(const cv::Mat& grey);
+    // Rows [begin, end) into out (out.firstRow = begin), every column.
+    void encodeRows(int begin, int end, CensusImage& out) const;
+
+private:
+    void encodeImprovedRows(int begin, int end, CensusImage& out) const;
+    void encodeMeiRows(int begin, int end, CensusImage& out) const;
+
+    bool improved_ = true;
+    cv::Size size_;
+    int alpha_ = 0;
+    cv::Mat windowMask_;
+    // Padded, all of one step: grey, the same with the sign bit flipped (the improved code's
+    // thresholds compare signed bytes), the edge-corner bits, and those in the upper nibble for the
+    // odd neighbours.
+    cv::Mat padded_, signedGrey_, ec_, ecHigh_;
+    std::vector<int> offsets_;  // byte offsets of the 7x7 then the 9x9 window's neighbours
+};
 
 // ---- edge_corner_bits.cpp ---------------------------------------------------------------------
 // bit 1 = Canny edge, bit 0 = Harris corner (response > harrisThreshold x the largest), from the
@@ -190,13 +217,14 @@ struct CostInputs {
 // that the next stages can start on the row while it is still in cache.
 using CostRowHook = std::function<void(int y)>;
 // Paper: C = (1 - exp(-C_cen/λcen)) + (1 - exp(-C_AD/λAD)) + (1 - exp(-C_grad/λgrad)).
+// `rows`: the rows of `out` to fill (all by default); the Census images need hold only those.
 void paperCost(const CostInputs& left, const CostInputs& right, const Parameters& parameters, CostVolume& out,
-               const CostRowHook& rowDone = {});
+               const CostRowHook& rowDone = {}, cv::Range rows = cv::Range::all());
 void paperCostReference(const CostInputs& left, const CostInputs& right, const Parameters& parameters,
                         CostVolume& out);
 // Mei: C = (1 - exp(-C_census/λcensus)) + (1 - exp(-C_AD/λAD)), C_AD the mean over R,G,B.
 void adCensusCost(const CostInputs& left, const CostInputs& right, const Parameters& parameters, CostVolume& out,
-                  const CostRowHook& rowDone = {});
+                  const CostRowHook& rowDone = {}, cv::Range rows = cv::Range::all());
 void adCensusCostReference(const CostInputs& left, const CostInputs& right, const Parameters& parameters,
                            CostVolume& out);
 // Cost of a pair where neither pixel lies inside the other image (x - d < 0), per method.

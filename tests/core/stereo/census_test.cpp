@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <initializer_list>
 #include <utility>
 #include <vector>
@@ -238,6 +239,42 @@ TEST(ImprovedCensus, OptimisedEqualsReferenceAtChunkEdges) {
                     improvedCensusReference(grey, ec, alpha, mask, plain);
                     ASSERT_EQ(fast.data, plain.data) << size << " alpha " << alpha << " mask " << !mask.empty();
                 }
+    }
+}
+
+// The matcher codes a block of rows at a time: every block's codes, read through at(x, y) with the
+// image's row, equal the whole image's, for both codes, blocks of awkward heights and a last block
+// shorter than the others.
+TEST(CensusEncoder, BlocksOfRowsEqualTheWholeImage) {
+    const cv::Mat grey = test::randomImage(203, 77, CV_8UC1, 5);
+    cv::Mat ec(grey.size(), CV_8UC1);
+    cv::randu(ec, 0, 4);
+    const cv::Mat mask = censusWindowMask(grey, 6.0);
+    for (int code = 0; code < 3; ++code) {
+        CensusEncoder encoder;
+        CensusImage whole;
+        if (code == 2) {
+            encoder.prepareMei(grey);
+            meiCensus(grey, whole);
+        } else {
+            const cv::Mat m = code == 0 ? mask : cv::Mat();
+            encoder.prepareImproved(grey, ec, 3, m);
+            improvedCensus(grey, ec, 3, m, whole);
+        }
+        for (int blockRows : {1, 10, 64, 77, 100}) {
+            CensusImage block;
+            for (int begin = 0; begin < grey.rows; begin += blockRows) {
+                const int end = std::min(grey.rows, begin + blockRows);
+                encoder.encodeRows(begin, end, block);
+                ASSERT_EQ(block.firstRow, begin);
+                ASSERT_EQ(block.height, end - begin);
+                for (int y = begin; y < end; ++y)
+                    for (int x = 0; x < grey.cols; ++x)
+                        for (int w = 0; w < whole.words; ++w)
+                            ASSERT_EQ(block.at(x, y)[w], whole.at(x, y)[w])
+                                << "code " << code << " block " << blockRows << " at " << x << "," << y;
+            }
+        }
     }
 }
 
