@@ -11,8 +11,8 @@
 //
 // Stages, as the seed paper's section 2.2 with registration and an error budget added, one file
 // each:
-//   measureSurface: split → rectify → match → reproject (Q) → region → image quality
-//   estimate:       gate → plane frame → texture tracks (texture_tracks) → motion (motion_evidence)
+//   measureSurface: split → rectify → match → tracking images → region → image quality
+//   estimate:       gate → reproject (Q) → plane frame → texture tracks (texture_tracks) → motion (motion_evidence)
 //                   → ice mask (ice_mask) → both clouds on the plane, k-NN filter (plane_clouds)
 //                   → grid, thickness (thickness_map) → integrate (trapz | sum) → uncertainty
 //                   (uncertainty) → gate
@@ -72,22 +72,30 @@ cv::Mat toFloatGrey(const cv::Mat& image) {
     return out;
 }
 
-// [X Y Z W]ᵀ = Q·[x y d 1]ᵀ for every valid disparity; NaN elsewhere.
-cv::Mat reproject(const cv::Mat& disparity, const cv::Mat& q) {
+// [X Y Z W]ᵀ = Q·[x y d 1]ᵀ for every valid disparity inside `window` (none lies outside it);
+// NaN elsewhere.
+cv::Mat reproject(const cv::Mat& disparity, const cv::Mat& q, const cv::Rect& window) {
     const cv::Matx44d Q(q);
-    cv::Mat points(disparity.size(), CV_32FC3, cv::Scalar::all(std::numeric_limits<float>::quiet_NaN()));
-    for (int y = 0; y < disparity.rows; ++y) {
-        const auto* d = disparity.ptr<float>(y);
-        auto* out = points.ptr<cv::Vec3f>(y);
-        for (int x = 0; x < disparity.cols; ++x) {
-            if (!(d[x] > 0)) continue;
-            const cv::Vec4d h = Q * cv::Vec4d(x, y, d[x], 1.0);
-            if (std::abs(h[3]) < 1e-12) continue;
-            const cv::Vec3f p(static_cast<float>(h[0] / h[3]), static_cast<float>(h[1] / h[3]),
-                              static_cast<float>(h[2] / h[3]));
-            if (p[2] > 0) out[x] = p;
+    cv::Mat points(disparity.size(), CV_32FC3);
+    const cv::Rect inside = window & cv::Rect({0, 0}, disparity.size());
+    const cv::Vec3f none = cv::Vec3f::all(std::numeric_limits<float>::quiet_NaN());
+    // Each row on its own: the same points whatever the thread count.
+    cv::parallel_for_(cv::Range(0, disparity.rows), [&](const cv::Range& rows) {
+        for (int y = rows.start; y < rows.end; ++y) {
+            const auto* d = disparity.ptr<float>(y);
+            auto* out = points.ptr<cv::Vec3f>(y);
+            std::fill(out, out + disparity.cols, none);
+            if (y < inside.y || y >= inside.y + inside.height) continue;
+            for (int x = inside.x; x < inside.x + inside.width; ++x) {
+                if (!(d[x] > 0)) continue;
+                const cv::Vec4d h = Q * cv::Vec4d(x, y, d[x], 1.0);
+                if (std::abs(h[3]) < 1e-12) continue;
+                const cv::Vec3f p(static_cast<float>(h[0] / h[3]), static_cast<float>(h[1] / h[3]),
+                                  static_cast<float>(h[2] / h[3]));
+                if (p[2] > 0) out[x] = p;
+            }
         }
-    }
+    });
     return points;
 }
 
@@ -136,8 +144,8 @@ struct VolumeChain::Impl {
     double focalPx = 0, baselineMm = 0;
 
     // measureSurface: a baseline (nullptr) in the whole frame, a later capture in its followUp.
-    Surface measureFrame(const cv::Mat& sideBySideFrame, const Surface* baseline);
-    Surface measure(const StereoPair& raw, const Surface* baseline);
+    Surface measureFrame(cv::Mat sideBySideFrame, const Surface* baseline);
+    Surface measure(StereoPair raw, const Surface* baseline);
     MatchRegion followUpRegion(const Surface& baseline) const;
     // A baseline with a configured outline: its region and band from a coarse pass (match_region.hpp).
     MatchRegion coarseRegion(const StereoPair& raw);
@@ -174,27 +182,36 @@ VolumeChain& VolumeChain::operator=(VolumeChain&&) noexcept = default;
 
 const Parameters& VolumeChain::parameters() const { return impl_->parameters; }
 
-Surface VolumeChain::measureSurface(const cv::Mat& sideBySideFrame) { return impl_->measureFrame(sideBySideFrame, nullptr); }
-
-Surface VolumeChain::measureSurface(const StereoPair& raw) { return impl_->measure(raw, nullptr); }
-
-Surface VolumeChain::measureSurface(const cv::Mat& sideBySideFrame, const Surface& baseline) {
-    return impl_->measureFrame(sideBySideFrame, &baseline);
+Surface VolumeChain::measureSurface(cv::Mat sideBySideFrame) {
+    return impl_->measureFrame(std::move(sideBySideFrame), nullptr);
 }
 
-Surface VolumeChain::measureSurface(const StereoPair& raw, const Surface& baseline) { return impl_->measure(raw, &baseline); }
+Surface VolumeChain::measureSurface(StereoPair raw) { return impl_->measure(std::move(raw), nullptr); }
 
-Surface VolumeChain::Impl::measureFrame(const cv::Mat& sideBySideFrame, const Surface* baseline) {
+Surface VolumeChain::measureSurface(cv::Mat sideBySideFrame, const Surface& baseline) {
+    return impl_->measureFrame(std::move(sideBySideFrame), &baseline);
+}
+
+Surface VolumeChain::measureSurface(StereoPair raw, const Surface& baseline) {
+    return impl_->measure(std::move(raw), &baseline);
+}
+
+cv::Mat VolumeChain::points(const Surface& surface) const {
+    return reproject(surface.disparity, impl_->calibration.Q, surface.matchedWindow);
+}
+
+Surface VolumeChain::Impl::measureFrame(cv::Mat sideBySideFrame, const Surface* baseline) {
     Timings split;
     StageTimer timer(clock, split);
-    const StereoPair raw = sideBySideViews(sideBySideFrame);
+    StereoPair raw = sideBySideViews(sideBySideFrame);
+    sideBySideFrame.release();  // the views hold the frame now, until the eyes are rectified
     timer.lap("split");
-    Surface surface = measure(raw, baseline);
+    Surface surface = measure(std::move(raw), baseline);
     surface.timingsMs.insert(surface.timingsMs.begin(), split.front());
     return surface;
 }
 
-Surface VolumeChain::Impl::measure(const StereoPair& raw, const Surface* baseline) {
+Surface VolumeChain::Impl::measure(StereoPair raw, const Surface* baseline) {
     Surface s;
     StageTimer timer(clock, s.timingsMs);
     const cv::Size size = rectifier.imageSize();
@@ -205,20 +222,19 @@ Surface VolumeChain::Impl::measure(const StereoPair& raw, const Surface* baselin
     }
     // The matcher's window: the region's box and, to its left, the band's reach into the right eye.
     const cv::Rect window = region.empty() ? cv::Rect({0, 0}, size) : matcherWindow(region, size);
-    const StereoPair rectified = rectifier.rectify(raw, window);
-    const cv::Mat left = toFloatGrey(rectified.left);
-    const cv::Mat right = toFloatGrey(rectified.right);
-    s.leftGrey = placedInFrame(left, window, size, 0.0f);
-    s.leftGrey.convertTo(s.rectifiedLeft, CV_8U);
-    // Prepared here, once per surface: the daemon keeps the baseline's and estimates against it
-    // every cycle.
-    s.trackLeft = prepareForTracking(left, window.tl());
-    s.trackRight = prepareForTracking(right, window.tl());
+    cv::Mat left, right;
+    {
+        const StereoPair rectified = rectifier.rectify(raw, window);
+        raw = {};  // the last reference to the capture, when the caller moved it in
+        left = toFloatGrey(rectified.left);
+        right = toFloatGrey(rectified.right);
+    }
     timer.lap("rectify");
     // The float average goes to the matcher as it is: its integer stages round it, its sub-pixel
     // refinement reads the fraction the averaging gained.
     s.matched = region;
     s.matched.band = region.empty() ? stereo::DisparityRange{0, parameters.maxDisparity} : region.band;
+    s.matchedWindow = window;
     cv::Mat disparity = matcher.compute(left, right, s.matched.band);
     matcher.releaseBuffers();  // a capture a cycle: Matcher::releaseBuffers says why
     if (!region.empty()) {
@@ -227,13 +243,19 @@ Surface VolumeChain::Impl::measure(const StereoPair& raw, const Surface* baselin
     }
     s.disparity = placedInFrame(disparity, window, size, stereo::kInvalidDisparity);
     timer.lap("match");
-    s.points = reproject(s.disparity, calibration.Q);
-    timer.lap("reproject");
+    // After the match, so that none of it is held while the matcher's buffers are.
+    s.leftGrey = placedInFrame(left, window, size, 0.0f);
+    s.leftGrey.convertTo(s.rectifiedLeft, CV_8U);
+    // Prepared here, once per surface: the daemon keeps the baseline's and estimates against it
+    // every cycle.
+    s.trackLeft = prepareForTracking(left, window.tl());
+    s.trackRight = prepareForTracking(right, window.tl());
+    timer.lap("prepare");
     // A later capture keeps the baseline's region: segmenting a cropped capture would find a
     // different one, and the estimate measures inside the baseline's anyway.
     if (!polygonRoi.empty()) s.roi = polygonRoi.clone();
     else if (baseline) s.roi = baseline->roi.clone();
-    else s.roi = segmentRoi(s.points, parameters.segmentationBandMm);
+    else s.roi = segmentRoi(reproject(s.disparity, calibration.Q, window), parameters.segmentationBandMm);
     s.quality = measureImageQuality(s.rectifiedLeft, s.roi);
     const int inside = cv::countNonZero(s.roi);
     s.validPercent = inside > 0 ? 100.0 * cv::countNonZero((s.disparity >= 0) & s.roi) / inside : 0.0;
@@ -299,7 +321,7 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     const Parameters& p = impl_->parameters;
     VolumeResult result;
     StageTimer timer(impl_->clock, result.timingsMs);
-    if (baseline.points.empty() || current.points.empty() || baseline.points.size() != current.points.size() ||
+    if (baseline.disparity.empty() || baseline.disparity.size() != current.disparity.size() ||
         baseline.leftGrey.size() != current.leftGrey.size()) {
         throw InvalidInput("volume: baseline and current surfaces must come from the same calibration");
     }
@@ -320,13 +342,14 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     }
 
     // --- the baseline's measured points and its plane frame ---
+    const cv::Mat baselineCloud = points(baseline);
     cv::Mat measured;
     cv::erode(baseline.roi, measured,
               cv::getStructuringElement(cv::MORPH_ELLIPSE, {2 * p.edgeMarginPx + 1, 2 * p.edgeMarginPx + 1}));
     std::vector<cv::Vec3d> baselinePoints;
     for (int y = 0; y < measured.rows; ++y)
         for (int x = 0; x < measured.cols; ++x) {
-            const cv::Vec3f q = baseline.points.at<cv::Vec3f>(y, x);
+            const cv::Vec3f q = baselineCloud.at<cv::Vec3f>(y, x);
             if (measured.at<std::uint8_t>(y, x) && validPoint(q)) baselinePoints.emplace_back(q[0], q[1], q[2]);
             else measured.at<std::uint8_t>(y, x) = 0;
         }
@@ -388,7 +411,7 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
 
     // --- both clouds on the baseline's plane, strays out ---
     const cv::Mat currentOutline = outlineInCurrent(baseline.roi, plane, transform, impl_->projection, p.edgeMarginPx);
-    const PlaneClouds clouds = planeClouds(baseline.points, measured, current.points, currentOutline, plane, transform, p);
+    const PlaneClouds clouds = planeClouds(baselineCloud, measured, points(current), currentOutline, plane, transform, p);
     result.pointsUsed = clouds.currentPoints;
     timer.lap("filter");
     if (result.pointsUsed < p.minPoints) {

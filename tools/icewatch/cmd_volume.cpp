@@ -132,13 +132,16 @@ void addVolumeCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunctio
             volume::VolumeChain chain(scene.calibration, parameters, [] { return std::chrono::steady_clock::now(); },
                                       configuration.stereo);
             volume::AveragedCapture& before = scene.before;
-            const volume::AveragedCapture& after = scene.after;
+            volume::AveragedCapture& after = scene.after;
             progress.show("measuring the baseline");
             const volume::Surface baseline = chain.measureSurface(before.frame);
             // The baseline's average (17 MB at 3840x1080) is not read again unless compared.
             if (!o->compareFullFrame) before.frame.release();
             progress.show("measuring the current capture");
-            const volume::Surface current = chain.measureSurface(after.frame, baseline);
+            // Moved in unless compared later: the chain frees it once rectified (measureSurface).
+            cv::Mat afterFrame = after.frame;
+            if (!o->compareFullFrame) after.frame.release();
+            const volume::Surface current = chain.measureSurface(std::move(afterFrame), baseline);
             progress.show("estimating the ice");
             const volume::VolumeResult r = chain.estimate(baseline, current);
             const double rssMb = peakRssMb();
