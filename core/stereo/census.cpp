@@ -198,8 +198,15 @@ struct ColumnStats {
     std::vector<std::uint16_t> sum7, sum9;
     std::vector<std::uint8_t> min7, min9, max7, max9;
 
-    explicit ColumnStats(int columns)
-        : sum7(columns), sum9(columns), min7(columns), min9(columns), max7(columns), max9(columns) {}
+    void resize(int columns) {
+        const auto n = static_cast<std::size_t>(columns);
+        sum7.resize(n);
+        sum9.resize(n);
+        min7.resize(n);
+        min9.resize(n);
+        max7.resize(n);
+        max9.resize(n);
+    }
 };
 
 // Column statistics of padded columns [0, columns), a multiple of kChunk, around the padded row
@@ -480,8 +487,23 @@ void CensusEncoder::prepareMei(const cv::Mat& grey) {
     cv::copyMakeBorder(grey, padded_, 3, 3, 4, 4, cv::BORDER_REPLICATE);
 }
 
+int CensusEncoder::words() const { return improved_ ? kImprovedCensusWords : 1; }
+
 void CensusEncoder::encodeRows(int begin, int end, CensusImage& out) const {
     CV_Assert(0 <= begin && begin <= end && end <= size_.height);
+    out.create(size_.width, end - begin, words(), begin);
+    forEachStripe(end - begin, [&](int, int stripeBegin, int stripeEnd) {
+        encodeInto(begin + stripeBegin, begin + stripeEnd, out);
+    });
+}
+
+void CensusEncoder::encodeRowsHere(int begin, int end, CensusImage& out) const {
+    CV_Assert(0 <= begin && begin <= end && end <= size_.height);
+    out.create(size_.width, end - begin, words(), begin);
+    encodeInto(begin, end, out);
+}
+
+void CensusEncoder::encodeInto(int begin, int end, CensusImage& out) const {
     if (improved_) {
         encodeImprovedRows(begin, end, out);
     } else {
@@ -490,80 +512,75 @@ void CensusEncoder::encodeRows(int begin, int end, CensusImage& out) const {
 }
 
 void CensusEncoder::encodeImprovedRows(int rowBegin, int rowEnd, CensusImage& out) const {
-    out.create(size_.width, rowEnd - rowBegin, kImprovedCensusWords, rowBegin);
     const int cols = size_.width;
     const std::ptrdiff_t step = static_cast<std::ptrdiff_t>(signedGrey_.step);
     // Padded columns the chunks' windows cover.
     const int statColumns = (cols + kChunk - 1) / kChunk * kChunk + kChunk;
     CV_Assert(statColumns <= padded_.cols);
     const bool masked = !windowMask_.empty();
-    forEachStripe(rowEnd - rowBegin, [&](int, int stripeBegin, int stripeEnd) {
-        // Window sums, minima and maxima per row, vertical then horizontal, in 16- and 8-bit
-        // vectors: several times fewer instructions than box filters, erosions and dilations of
-        // the whole image, and no images of them.
-        ColumnStats stats(statColumns);
-        const ThresholdMaths<47> thresholds7(alpha_);
-        const ThresholdMaths<79> thresholds9(alpha_);
-        std::uint64_t tail[kChunk * kImprovedCensusWords];  // the last, partial chunk of a row
-        const cv::v_uint8 all = cv::vx_setall_u8(0xFF), none = cv::vx_setzero_u8();
-        for (int y = rowBegin + stripeBegin; y < rowBegin + stripeEnd; ++y) {
-            columnStats(padded_.ptr<std::uint8_t>(y + kPad), step, statColumns, stats);
-            const std::uint8_t* mask = masked ? windowMask_.ptr<std::uint8_t>(y) : nullptr;
-            const std::ptrdiff_t rowCentre = (y + kPad) * step + kPad;
-            const ChunkCentre rowStart{signedGrey_.ptr<std::int8_t>() + rowCentre, ec_.ptr<std::uint8_t>() + rowCentre,
-                                       ecHigh_.ptr<std::uint8_t>() + rowCentre};
-            for (int x0 = 0; x0 < cols; x0 += kChunk) {
-                const int count = std::min(kChunk, cols - x0);
-                const ChunkCentre at{rowStart.grey + x0, rowStart.ec + x0, rowStart.ecHigh + x0};
-                std::uint64_t* words = count == kChunk ? out.at(x0, y) : tail;
-                cv::v_uint16 trimmed[2];
-                WindowChunk w7{cv::vx_setzero_s8(), cv::vx_setzero_s8(), all, true};
-                WindowChunk w9 = w7;
-                if (masked) {
-                    // (Lanes past the end of a row may want either window: they are not stored.)
-                    std::uint8_t partial[kChunk] = {};
-                    if (count < kChunk) std::copy_n(mask + x0, count, partial);
-                    w7.need = cv::vx_load(count == kChunk ? mask + x0 : partial) != none;
-                    w9.need = ~w7.need;
-                    w7.any = cv::v_check_any(w7.need);
-                    w9.any = cv::v_check_any(w9.need);
-                }
-                if (w7.any) {
-                    trimmedSums<3>(stats.sum7.data(), stats.min7.data(), stats.max7.data(), x0 + kPad, trimmed);
-                    thresholds7(trimmed, w7.hi, w7.lo);
-                }
-                if (w9.any) {
-                    trimmedSums<4>(stats.sum9.data(), stats.min9.data(), stats.max9.data(), x0 + kPad, trimmed);
-                    thresholds9(trimmed, w9.hi, w9.lo);
-                }
-                if (masked) {
-                    encodeChunk<true>(at, offsets_.data(), w7, w9, words);
-                } else {
-                    encodeChunk<false>(at, offsets_.data(), w7, w9, words);
-                }
-                if (words == tail) std::copy_n(tail, count * kImprovedCensusWords, out.at(x0, y));
+    // Window sums, minima and maxima per row, vertical then horizontal, in 16- and 8-bit vectors:
+    // several times fewer instructions than box filters, erosions and dilations of the whole
+    // image, and no images of them. Kept per thread: the cost stage codes a row at a time.
+    thread_local ColumnStats stats;
+    stats.resize(statColumns);
+    const ThresholdMaths<47> thresholds7(alpha_);
+    const ThresholdMaths<79> thresholds9(alpha_);
+    std::uint64_t tail[kChunk * kImprovedCensusWords];  // the last, partial chunk of a row
+    const cv::v_uint8 all = cv::vx_setall_u8(0xFF), none = cv::vx_setzero_u8();
+    for (int y = rowBegin; y < rowEnd; ++y) {
+        columnStats(padded_.ptr<std::uint8_t>(y + kPad), step, statColumns, stats);
+        const std::uint8_t* mask = masked ? windowMask_.ptr<std::uint8_t>(y) : nullptr;
+        const std::ptrdiff_t rowCentre = (y + kPad) * step + kPad;
+        const ChunkCentre rowStart{signedGrey_.ptr<std::int8_t>() + rowCentre, ec_.ptr<std::uint8_t>() + rowCentre,
+                                   ecHigh_.ptr<std::uint8_t>() + rowCentre};
+        for (int x0 = 0; x0 < cols; x0 += kChunk) {
+            const int count = std::min(kChunk, cols - x0);
+            const ChunkCentre at{rowStart.grey + x0, rowStart.ec + x0, rowStart.ecHigh + x0};
+            std::uint64_t* words = count == kChunk ? out.at(x0, y) : tail;
+            cv::v_uint16 trimmed[2];
+            WindowChunk w7{cv::vx_setzero_s8(), cv::vx_setzero_s8(), all, true};
+            WindowChunk w9 = w7;
+            if (masked) {
+                // (Lanes past the end of a row may want either window: they are not stored.)
+                std::uint8_t partial[kChunk] = {};
+                if (count < kChunk) std::copy_n(mask + x0, count, partial);
+                w7.need = cv::vx_load(count == kChunk ? mask + x0 : partial) != none;
+                w9.need = ~w7.need;
+                w7.any = cv::v_check_any(w7.need);
+                w9.any = cv::v_check_any(w9.need);
             }
+            if (w7.any) {
+                trimmedSums<3>(stats.sum7.data(), stats.min7.data(), stats.max7.data(), x0 + kPad, trimmed);
+                thresholds7(trimmed, w7.hi, w7.lo);
+            }
+            if (w9.any) {
+                trimmedSums<4>(stats.sum9.data(), stats.min9.data(), stats.max9.data(), x0 + kPad, trimmed);
+                thresholds9(trimmed, w9.hi, w9.lo);
+            }
+            if (masked) {
+                encodeChunk<true>(at, offsets_.data(), w7, w9, words);
+            } else {
+                encodeChunk<false>(at, offsets_.data(), w7, w9, words);
+            }
+            if (words == tail) std::copy_n(tail, count * kImprovedCensusWords, out.at(x0, y));
         }
-    });
+    }
 }
 
 void CensusEncoder::encodeMeiRows(int rowBegin, int rowEnd, CensusImage& out) const {
-    out.create(size_.width, rowEnd - rowBegin, 1, rowBegin);
-    forEachStripe(rowEnd - rowBegin, [&](int, int stripeBegin, int stripeEnd) {
-        for (int y = rowBegin + stripeBegin; y < rowBegin + stripeEnd; ++y)
-            for (int x = 0; x < size_.width; ++x) {
-                const int centre = padded_.at<std::uint8_t>(y + 3, x + 4);
-                std::uint64_t code = 0;
-                for (int dy = -3; dy <= 3; ++dy) {
-                    const std::uint8_t* row = padded_.ptr<std::uint8_t>(y + 3 + dy) + x + 4;
-                    for (int dx = -4; dx <= 4; ++dx) {
-                        if (dx == 0 && dy == 0) continue;
-                        code = (code << 1) | static_cast<std::uint64_t>(row[dx] < centre);
-                    }
+    for (int y = rowBegin; y < rowEnd; ++y)
+        for (int x = 0; x < size_.width; ++x) {
+            const int centre = padded_.at<std::uint8_t>(y + 3, x + 4);
+            std::uint64_t code = 0;
+            for (int dy = -3; dy <= 3; ++dy) {
+                const std::uint8_t* row = padded_.ptr<std::uint8_t>(y + 3 + dy) + x + 4;
+                for (int dx = -4; dx <= 4; ++dx) {
+                    if (dx == 0 && dy == 0) continue;
+                    code = (code << 1) | static_cast<std::uint64_t>(row[dx] < centre);
                 }
-                *out.at(x, y) = code;
             }
-    });
+            *out.at(x, y) = code;
+        }
 }
 
 void improvedCensus(const cv::Mat& grey, const cv::Mat& edgeCorner, int alpha, const cv::Mat& windowMask,

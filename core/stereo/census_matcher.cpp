@@ -13,10 +13,6 @@ using namespace detail;
 
 namespace {
 
-// Rows of Census codes held at once: a few MB at 1920 pixels a row, and enough rows that the
-// stripes of each block keep both cores busy.
-constexpr int kCensusBlockRows = 64;
-
 // The grey image the intensity refinement reads, CV_32FC1, from the cleaned 8-bit grey. Given a
 // float input (with its grey after the impulse repair, before smoothing), the float itself
 // wherever the cleaning only repaired impulses: those pixels take the repair. Once smoothing has
@@ -40,8 +36,6 @@ void CensusMatcher::releaseBuffers() {
     costs_ = {};
     scratch_ = {};
     rightCosts_ = {};
-    leftCensus_ = {};
-    rightCensus_ = {};
     arms_ = {};
     rightArms_ = {};
     floatLeft_.release();
@@ -83,8 +77,10 @@ cv::Mat CensusMatcher::compute(const cv::Mat& left, const cv::Mat& right, Dispar
     //    the image. The two eyes run as two tasks side by side (the stages inside run serially
     //    then; their results do not depend on it), in two rounds: the Census band depends on the
     //    noise of both.
-    CostInputs leftInputs{{}, {}, {}, &leftCensus_};
-    CostInputs rightInputs{{}, {}, {}, &rightCensus_};
+    // The Census codes are made row by row in the cost stage (CensusEncoder says why).
+    CensusEncoder encoders[2];
+    CostInputs leftInputs{{}, {}, {}, nullptr, &encoders[0], leftView.x};
+    CostInputs rightInputs{{}, {}, {}, nullptr, &encoders[1], rightView.x};
     double noise[2] = {0.0, 0.0};
     cv::Mat repaired[2];  // float input: grey after the impulse repair, before any smoothing
     auto cleanEye = [&](bool isLeft) {
@@ -97,7 +93,6 @@ cv::Mat CensusMatcher::compute(const cv::Mat& left, const cv::Mat& right, Dispar
         smoothNoise(bgr, grey, p.noiseSmoothingGain, p.noiseGreyPassRange,
                     bandFollowsNoise ? &noise[isLeft ? 0 : 1] : nullptr);
     };
-    CensusEncoder encoders[2];
     auto prepareEye = [&](bool isLeft, int alpha) {
         cv::Mat& bgr = isLeft ? bgrLeft : bgrRight;
         cv::Mat& grey = isLeft ? greyLeft : greyRight;
@@ -138,9 +133,9 @@ cv::Mat CensusMatcher::compute(const cv::Mat& left, const cv::Mat& right, Dispar
         rightCosts_.create(costs_.width, costs_.height, costs_.disparities);
     }
 
-    // 3. Matching cost per pixel and disparity. Each row, as soon as it is complete and while it is
-    //    still in cache: the right view's costs read off it, then the first aggregation pass (means
-    //    along the rows) of both views.
+    // 3. Matching cost per pixel and disparity, each row's Census codes made as the row starts.
+    //    Each row, as soon as it is complete and while it is still in cache: the right view's
+    //    costs read off it, then the first aggregation pass (means along the rows) of both views.
     const bool rowsFirst = p.crossIterations > 0;
     const std::uint16_t invalid = method_ == Method::Paper ? kPaperInvalidCost : kAdCensusInvalidCost;
     const CostRowHook rowDone = [&](int y) {
@@ -149,22 +144,10 @@ cv::Mat CensusMatcher::compute(const cv::Mat& left, const cv::Mat& right, Dispar
         meanAlongRow(arms_, costs_, y);
         if (ownRightPass) meanAlongRow(rightArms_, rightCosts_, y);
     };
-    // The Census codes a block of rows at a time (CensusEncoder says why), each eye's block with
-    // the other's as before, then that block's costs.
-    for (int begin = 0; begin < left.rows; begin += kCensusBlockRows) {
-        const cv::Range rows(begin, std::min(left.rows, begin + kCensusBlockRows));
-        cv::parallel_for_(cv::Range(0, 2), [&](const cv::Range& r) {
-            for (int eye = r.start; eye < r.end; ++eye) {
-                CensusImage& census = eye == 0 ? leftCensus_ : rightCensus_;
-                encoders[eye].encodeRows(rows.start, rows.end, census);
-                census.viewColumns(eye == 0 ? leftView.x : rightView.x, viewWidth);
-            }
-        }, 2);
-        if (method_ == Method::Paper) {
-            paperCost(leftInputs, rightInputs, p, costs_, rowDone, rows);
-        } else {
-            adCensusCost(leftInputs, rightInputs, p, costs_, rowDone, rows);
-        }
+    if (method_ == Method::Paper) {
+        paperCost(leftInputs, rightInputs, p, costs_, rowDone);
+    } else {
+        adCensusCost(leftInputs, rightInputs, p, costs_, rowDone);
     }
 
     // 4. The right view, when it gets its own pass: the rest of its aggregation, scanlines

@@ -23,8 +23,6 @@ private:
     Parameters parameters_;
     detail::CostVolume costs_;
     detail::CostVolume scratch_;
-    detail::CensusImage leftCensus_;
-    detail::CensusImage rightCensus_;
     detail::CrossArms arms_;
     detail::CostVolume rightCosts_;  // the right view's own pass (Parameters::rightViewAggregation)
     detail::CrossArms rightArms_;

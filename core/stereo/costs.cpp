@@ -251,19 +251,38 @@ void costReference(const Terms& terms, const CostInputs& left, const CostInputs&
         }
 }
 
+// Row y's Census codes: the whole image's, or made now by the inputs' encoder into one row.
+class CensusRow {
+public:
+    CensusRow(const CostInputs& inputs, int width) : inputs_(inputs), width_(width) {}
+    const CensusImage& row(int y) {
+        if (inputs_.census) return *inputs_.census;
+        inputs_.encoder->encodeRowsHere(y, y + 1, row_);
+        row_.viewColumns(inputs_.censusFirstColumn, width_);
+        return row_;
+    }
+
+private:
+    const CostInputs& inputs_;
+    int width_;
+    CensusImage row_;
+};
+
 template <class Terms>
 void costOptimised(const Terms& terms, const CostInputs& left, const CostInputs& right, CostVolume& out,
-                   const CostRowHook& rowDone, cv::Range rows) {
-    if (rows == cv::Range::all()) rows = cv::Range(0, left.bgr.rows);
-    CV_Assert(0 <= rows.start && rows.start <= rows.end && rows.end <= left.bgr.rows);
+                   const CostRowHook& rowDone) {
+    CV_Assert((left.census || left.encoder) && (right.census || right.encoder));
     const int width = left.bgr.cols;
     const int disparities = out.disparities;
     const int blocks = (disparities + kVec8 - 1) / kVec8 * kVec8;
-    const int step = right.census->words;
-    forEachStripe(rows.size(), [&](int, int stripeBegin, int stripeEnd) {
+    const int step = right.census ? right.census->words : right.encoder->words();
+    forEachStripe(left.bgr.rows, [&](int, int begin, int end) {
         ReversedRow reversed;
         std::vector<std::uint16_t> gradientIndex(static_cast<std::size_t>(blocks));
-        for (int y = rows.start + stripeBegin; y < rows.start + stripeEnd; ++y) {
+        CensusRow leftCodes(left, width), rightCodes(right, width);
+        for (int y = begin; y < end; ++y) {
+            const CensusImage& leftCensus = leftCodes.row(y);
+            const CensusImage& rightCensus = rightCodes.row(y);
             reversed.fill(right.bgr, right.gradient, y, width);
             const auto* colour = left.bgr.ptr<cv::Vec3b>(y);
             const auto* grad = Terms::kUsesGradient ? left.gradient.ptr<cv::Vec3b>(y) : nullptr;
@@ -287,7 +306,7 @@ void costOptimised(const Terms& terms, const CostInputs& left, const CostInputs&
                     if (i + kVec8 / 2 < valid)
                         terms.indices(adHi, gradHi, cell + i + kVec8 / 2, gradientIndex.data() + i + kVec8 / 2);
                 }
-                terms.fill(left.census->at(x, y), right.census->at(x, y), step, valid, mask && mask[x] != 0,
+                terms.fill(leftCensus.at(x, y), rightCensus.at(x, y), step, valid, mask && mask[x] != 0,
                            gradientIndex.data(), cell);
                 std::fill(cell + valid, cell + disparities, terms.invalid);
                 std::fill(cell + disparities, cell + out.stride, kPadCost);
@@ -300,8 +319,8 @@ void costOptimised(const Terms& terms, const CostInputs& left, const CostInputs&
 }  // namespace
 
 void paperCost(const CostInputs& left, const CostInputs& right, const Parameters& parameters, CostVolume& out,
-               const CostRowHook& rowDone, cv::Range rows) {
-    costOptimised(PaperTerms(parameters), left, right, out, rowDone, rows);
+               const CostRowHook& rowDone) {
+    costOptimised(PaperTerms(parameters), left, right, out, rowDone);
 }
 
 void paperCostReference(const CostInputs& left, const CostInputs& right, const Parameters& parameters,
@@ -310,8 +329,8 @@ void paperCostReference(const CostInputs& left, const CostInputs& right, const P
 }
 
 void adCensusCost(const CostInputs& left, const CostInputs& right, const Parameters& parameters, CostVolume& out,
-                  const CostRowHook& rowDone, cv::Range rows) {
-    costOptimised(MeiTerms(parameters), left, right, out, rowDone, rows);
+                  const CostRowHook& rowDone) {
+    costOptimised(MeiTerms(parameters), left, right, out, rowDone);
 }
 
 void adCensusCostReference(const CostInputs& left, const CostInputs& right, const Parameters& parameters,

@@ -171,18 +171,23 @@ void improvedCensusReference(const cv::Mat& grey, const cv::Mat& edgeCorner, int
                              const cv::Mat& windowMask, CensusImage& out);
 // Mei's Census: 9x7 window on grey, 1 bit per neighbour (neighbour < centre), one word.
 void meiCensus(const cv::Mat& grey, CensusImage& out);
-// The codes of one image a block of rows at a time, as improvedCensus or meiCensus computes them
-// for the whole image. A row's matching costs need that row's codes only, and the whole image's
+// The codes of one image a few rows at a time, as improvedCensus or meiCensus computes them for
+// the whole image. A row's matching costs need that row's codes only, and the whole image's
 // (64 bytes a pixel for the improved code) were the matcher's largest buffers after the cost
-// volumes; the matcher keeps a block's instead. prepare* copies what every block reads once.
+// volumes: the cost stage codes each row as it needs it (CostInputs::encoder). prepare* copies
+// what every row reads, once.
 class CensusEncoder {
 public:
     void prepareImproved(const cv::Mat& grey, const cv::Mat& edgeCorner, int alpha, const cv::Mat& windowMask);
     void prepareMei(const cv::Mat& grey);
-    // Rows [begin, end) into out (out.firstRow = begin), every column.
+    int words() const;  // per pixel
+    // Rows [begin, end) into out (out.firstRow = begin), every column: split over stripes, or on
+    // the calling thread alone.
     void encodeRows(int begin, int end, CensusImage& out) const;
+    void encodeRowsHere(int begin, int end, CensusImage& out) const;
 
 private:
+    void encodeInto(int begin, int end, CensusImage& out) const;
     void encodeImprovedRows(int begin, int end, CensusImage& out) const;
     void encodeMeiRows(int begin, int end, CensusImage& out) const;
 
@@ -211,20 +216,23 @@ struct CostInputs {
     cv::Mat bgr;          // CV_8UC3
     cv::Mat gradient;     // CV_8UC3 (Paper only)
     cv::Mat windowMask;   // CV_8UC1 (Paper, left image only)
+    // The Census codes: the whole image's, or (the reference needs the former) made row by row
+    // as the costs need them, the inputs' column 0 being the encoder's column censusFirstColumn.
     const CensusImage* census = nullptr;
+    const CensusEncoder* encoder = nullptr;
+    int censusFirstColumn = 0;
 };
 // Called with y as soon as row y of the cost volume is complete, on the thread that computed it, so
 // that the next stages can start on the row while it is still in cache.
 using CostRowHook = std::function<void(int y)>;
 // Paper: C = (1 - exp(-C_cen/λcen)) + (1 - exp(-C_AD/λAD)) + (1 - exp(-C_grad/λgrad)).
-// `rows`: the rows of `out` to fill (all by default); the Census images need hold only those.
 void paperCost(const CostInputs& left, const CostInputs& right, const Parameters& parameters, CostVolume& out,
-               const CostRowHook& rowDone = {}, cv::Range rows = cv::Range::all());
+               const CostRowHook& rowDone = {});
 void paperCostReference(const CostInputs& left, const CostInputs& right, const Parameters& parameters,
                         CostVolume& out);
 // Mei: C = (1 - exp(-C_census/λcensus)) + (1 - exp(-C_AD/λAD)), C_AD the mean over R,G,B.
 void adCensusCost(const CostInputs& left, const CostInputs& right, const Parameters& parameters, CostVolume& out,
-                  const CostRowHook& rowDone = {}, cv::Range rows = cv::Range::all());
+                  const CostRowHook& rowDone = {});
 void adCensusCostReference(const CostInputs& left, const CostInputs& right, const Parameters& parameters,
                            CostVolume& out);
 // Cost of a pair where neither pixel lies inside the other image (x - d < 0), per method.

@@ -84,6 +84,48 @@ TEST(Costs, PaperOptimisedEqualsReference) {
     }
 }
 
+// The matcher's way: the Census codes made row by row as the costs need them, on column views of a
+// band (left from column `first` on, right from 0) as the matcher passes them, for both methods.
+// The costs equal those of the whole images' codes, cell for cell.
+TEST(Costs, CodesMadeRowByRowGiveTheWholeImagesCosts) {
+    const Pair p = randomPair(203, 61);
+    const Parameters parameters;
+    const PaperInputs whole(p, parameters, 6.0);
+    const int first = 9, width = p.bgrLeft.cols - first;
+    const cv::Rect leftView(first, 0, width, p.bgrLeft.rows), rightView(0, 0, width, p.bgrLeft.rows);
+    for (const bool paper : {true, false}) {
+        CensusEncoder encoders[2];
+        CensusImage codes[2];
+        if (paper) {
+            encoders[0].prepareImproved(p.greyLeft, edgeCornerBits(p.greyLeft, parameters), 2, whole.left.windowMask);
+            encoders[1].prepareImproved(p.greyRight, edgeCornerBits(p.greyRight, parameters), 2, cv::Mat());
+        } else {
+            encoders[0].prepareMei(p.greyLeft);
+            encoders[1].prepareMei(p.greyRight);
+        }
+        encoders[0].encodeRows(0, p.greyLeft.rows, codes[0]);
+        encoders[1].encodeRows(0, p.greyRight.rows, codes[1]);
+        codes[0].viewColumns(first, width);
+        codes[1].viewColumns(0, width);
+        const cv::Mat mask = whole.left.windowMask(leftView);
+        const CostInputs byImageLeft{p.bgrLeft(leftView), whole.left.gradient(leftView), mask, &codes[0]};
+        const CostInputs byImageRight{p.bgrRight(rightView), whole.right.gradient(rightView), cv::Mat(), &codes[1]};
+        const CostInputs byRowLeft{byImageLeft.bgr, byImageLeft.gradient, mask, nullptr, &encoders[0], first};
+        const CostInputs byRowRight{byImageRight.bgr, byImageRight.gradient, cv::Mat(), nullptr, &encoders[1], 0};
+        CostVolume byImage, byRow;
+        byImage.create(width, p.bgrLeft.rows, 21);
+        byRow.create(width, p.bgrLeft.rows, 21);
+        if (paper) {
+            paperCost(byImageLeft, byImageRight, parameters, byImage);
+            paperCost(byRowLeft, byRowRight, parameters, byRow);
+        } else {
+            adCensusCost(byImageLeft, byImageRight, parameters, byImage);
+            adCensusCost(byRowLeft, byRowRight, parameters, byRow);
+        }
+        EXPECT_EQ(byRow.data, byImage.data) << (paper ? "paper" : "AD-Census");
+    }
+}
+
 // The matcher's order: each cost row, as soon as it is complete, gives the right view's row and goes
 // through the first aggregation pass of both views; aggregation then carries on from there. The
 // result equals the stages run one after the other over whole volumes, by their references.
