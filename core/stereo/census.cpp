@@ -93,9 +93,11 @@ constexpr int kPad = 4;
 
 }  // namespace
 
-cv::Mat censusWindowMask(const cv::Mat& grey, double gradientThreshold) {
+cv::Mat censusWindowMask(const cv::Mat& grey, double gradientThreshold, EyeScratch* scratch) {
     CV_Assert(grey.type() == CV_8UC1);
-    thread_local cv::Mat dx, dy;  // scratch kept per thread: fresh buffers this size are mostly page faults
+    EyeScratch own;
+    cv::Mat& dx = (scratch ? *scratch : own).dx;
+    cv::Mat& dy = (scratch ? *scratch : own).dy;
     sobel16(grey, dx, dy);
     // |∇I| / 8 > T  <=>  dx² + dy² > (8T)², compared exactly on the integer squares.
     const double limit = 64.0 * gradientThreshold * std::abs(gradientThreshold);
@@ -112,9 +114,11 @@ cv::Mat censusWindowMask(const cv::Mat& grey, double gradientThreshold) {
     return mask;
 }
 
-cv::Mat channelGradientMagnitudes(const cv::Mat& bgr) {
+cv::Mat channelGradientMagnitudes(const cv::Mat& bgr, EyeScratch* scratch) {
     CV_Assert(bgr.depth() == CV_8U);
-    thread_local cv::Mat dx, dy;  // scratch kept per thread, as above
+    EyeScratch own;
+    cv::Mat& dx = (scratch ? *scratch : own).colourDx;
+    cv::Mat& dy = (scratch ? *scratch : own).colourDy;
     sobel16(bgr, dx, dy);
     // Quarter grey levels: the gradient term is decisive and needs the resolution; gradients above
     // 63.75 grey levels per pixel (strong edges, where Census and AD decide anyway) saturate.

@@ -33,6 +33,9 @@ CensusMatcher::CensusMatcher(Method method, const Parameters& parameters)
     : method_(method), parameters_(parameters) {}
 
 void CensusMatcher::releaseBuffers() {
+    eyeScratch_[0] = {};
+    eyeScratch_[1] = {};
+    refinementScratch_ = {};
     costs_ = {};
     scratch_ = {};
     rightCosts_ = {};
@@ -99,15 +102,16 @@ cv::Mat CensusMatcher::compute(const cv::Mat& left, const cv::Mat& right, Dispar
         const cv::Rect& view = isLeft ? leftView : rightView;
         CostInputs& inputs = isLeft ? leftInputs : rightInputs;
         CensusEncoder& encoder = encoders[isLeft ? 0 : 1];
+        EyeScratch* scratch = &eyeScratch_[isLeft ? 0 : 1];
         inputs.bgr = bgr(view);
         if (method_ == Method::Paper) {
             // Improved Census: window by gradient (left only: the left pixel decides, the right
             // image carries both codes), edge and corner bits; the gradient term's magnitudes.
             cv::Mat windowMask;
-            if (isLeft) windowMask = censusWindowMask(grey, p.censusGradientThreshold);
-            encoder.prepareImproved(grey, edgeCornerBits(grey, p), alpha, windowMask);
+            if (isLeft) windowMask = censusWindowMask(grey, p.censusGradientThreshold, scratch);
+            encoder.prepareImproved(grey, edgeCornerBits(grey, p, scratch), alpha, windowMask);
             if (isLeft) inputs.windowMask = windowMask(view);
-            inputs.gradient = channelGradientMagnitudes(bgr)(view);
+            inputs.gradient = channelGradientMagnitudes(bgr, scratch)(view);
         } else {
             encoder.prepareMei(grey);
         }
@@ -148,6 +152,11 @@ cv::Mat CensusMatcher::compute(const cv::Mat& left, const cv::Mat& right, Dispar
         paperCost(leftInputs, rightInputs, p, costs_, rowDone);
     } else {
         adCensusCost(leftInputs, rightInputs, p, costs_, rowDone);
+    }
+    if (!keepBuffers_) {
+        // Not needed again this pair: given back before the scanlines, where the volumes peak.
+        eyeScratch_[0] = {};
+        eyeScratch_[1] = {};
     }
 
     // 4. The right view, when it gets its own pass: the rest of its aggregation, scanlines
@@ -193,9 +202,10 @@ cv::Mat CensusMatcher::compute(const cv::Mat& left, const cv::Mat& right, Dispar
         intensityImage(greyLeft, floatInput ? left : cv::Mat(), repaired[0], floatLeft_);
         intensityImage(greyRight, floatInput ? right : cv::Mat(), repaired[1], floatRight_);
         refineSubpixelByIntensity(floatLeft_, floatRight_, p.subpixelWindowRadius, p.subpixelIterations,
-                                  static_cast<float>(p.subpixelMaxChange), refined);
+                                  static_cast<float>(p.subpixelMaxChange), refined, &refinementScratch_);
     }
     if (p.medianFilter) cv::medianBlur(refined, refined, 3);
+    if (!keepBuffers_) releaseBuffers();
     return refined;
 }
 

@@ -70,14 +70,15 @@ cv::v_int32 suppressLanes(const std::int32_t* mag, std::ptrdiff_t step, const cv
     return cv::v_select(maximum, cv::v_select(m > high, strong, cv::vx_setzero_s32()), none);
 }
 
-// Canny's map, kStrong on edges, in a buffer of this thread's with a border of one pixel.
+// Canny's map, kStrong on edges, with a border of one pixel (in the scratch's cannyCells).
 struct CannyMap {
     const std::vector<std::uint8_t>& cells;
     std::size_t step;  // width + 2
     const std::uint8_t* row(int y) const { return cells.data() + (static_cast<std::size_t>(y) + 1) * step + 1; }
 };
 
-CannyMap cannyMap(const cv::Mat& dx, const cv::Mat& dy, double lowThreshold, double highThreshold) {
+CannyMap cannyMap(const cv::Mat& dx, const cv::Mat& dy, double lowThreshold, double highThreshold,
+                  EyeScratch& scratch) {
     const int width = dx.cols, height = dx.rows;
     // Thresholds on the squared norm, as cv::Canny turns them.
     if (lowThreshold > highThreshold) std::swap(lowThreshold, highThreshold);
@@ -87,12 +88,13 @@ CannyMap cannyMap(const cv::Mat& dx, const cv::Mat& dy, double lowThreshold, dou
     if (highThreshold > 0) highThreshold *= highThreshold;
     const int low = cvFloor(lowThreshold), high = cvFloor(highThreshold);
 
-    // Squared gradients with a border of zeros, and the map with a border of kNone. Grown once per
-    // thread for the largest image; only the borders need setting, the rest is written below.
+    // Squared gradients with a border of zeros, and the map with a border of kNone; only the
+    // borders need setting, the rest is written below.
     const std::ptrdiff_t step = width + 2;
-    thread_local std::vector<std::int32_t> magnitude;
-    thread_local std::vector<std::uint8_t> map;
-    thread_local std::vector<std::int32_t> stack;
+    std::vector<std::int32_t>& magnitude = scratch.magnitude;
+    std::vector<std::uint8_t>& map = scratch.cannyCells;
+    std::vector<std::int32_t>& stack = scratch.stack;
+    stack.clear();
     magnitude.resize(static_cast<std::size_t>(step * (height + 2)));
     std::fill(magnitude.begin(), magnitude.begin() + step, 0);
     std::fill(magnitude.end() - step, magnitude.end(), 0);
@@ -169,7 +171,8 @@ void cannyEdges(const cv::Mat& dx, const cv::Mat& dy, double low, double high, c
     CV_Assert(dx.type() == CV_16SC1 && dy.type() == CV_16SC1 && dx.size() == dy.size());
     edges.create(dx.size(), CV_8UC1);
     if (dx.empty()) return;
-    const CannyMap map = cannyMap(dx, dy, low, high);
+    EyeScratch scratch;
+    const CannyMap map = cannyMap(dx, dy, low, high, scratch);
     for (int y = 0; y < dx.rows; ++y) {
         const std::uint8_t* row = map.row(y);
         auto* out = edges.ptr<std::uint8_t>(y);
@@ -177,17 +180,19 @@ void cannyEdges(const cv::Mat& dx, const cv::Mat& dy, double low, double high, c
     }
 }
 
-cv::Mat edgeCornerBits(const cv::Mat& grey, const Parameters& parameters) {
+cv::Mat edgeCornerBits(const cv::Mat& grey, const Parameters& parameters, EyeScratch* scratch) {
     CV_Assert(grey.type() == CV_8UC1);
     cv::Mat bits(grey.size(), CV_8UC1);
     if (grey.empty()) return bits;
     // One pair of derivatives serves both detectors: Canny's own (3x3 Sobel, replicated border)
     // and Harris' (the same Sobel; its scale does not matter, the threshold is relative to the
-    // largest response). Scratch is kept per thread: buffers this size, freshly allocated on a
-    // worker thread, cost more in page faults than the work done in them.
-    thread_local cv::Mat dx, dy;
-    sobel16(grey, dx, dy);
-    const CannyMap map = cannyMap(dx, dy, parameters.cannyLowThreshold, parameters.cannyHighThreshold);
+    // largest response).
+    EyeScratch own;
+    EyeScratch& s = scratch ? *scratch : own;
+    const cv::Mat& dx = s.dx;
+    const cv::Mat& dy = s.dy;
+    sobel16(grey, s.dx, s.dy);
+    const CannyMap map = cannyMap(dx, dy, parameters.cannyLowThreshold, parameters.cannyHighThreshold, s);
 
     // Harris, k = 0.04 over 3x3 blocks (replicated border) of the products of the derivatives:
     // exact integer sums, per row a vertical sum of three product rows, then a horizontal one.
@@ -196,7 +201,7 @@ cv::Mat edgeCornerBits(const cv::Mat& grey, const Parameters& parameters) {
     const auto columns = static_cast<std::size_t>(width);
     thread_local std::vector<std::int32_t> ring;       // 3 rows x (gx², gx gy, gy²)
     thread_local std::vector<std::int32_t> sums;       // one row's vertical sums, a replicated column each side
-    thread_local std::vector<double> response;
+    std::vector<double>& response = s.response;
     ring.resize(9 * columns);
     sums.resize(3 * (columns + 2));
     response.resize(columns * static_cast<std::size_t>(height));

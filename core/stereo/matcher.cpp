@@ -94,6 +94,11 @@ void Matcher::releaseBuffers() {
     impl_->census.releaseBuffers();
 }
 
+void Matcher::setKeepBuffers(bool keep) {
+    impl_->sgbm.setKeepBuffers(keep);
+    impl_->census.setKeepBuffers(keep);
+}
+
 Method Matcher::method() const { return impl_->method; }
 const Parameters& Matcher::parameters() const { return impl_->parameters; }
 

@@ -61,11 +61,15 @@ public:
     // The band 0 .. maxDisparity-1.
     cv::Mat compute(const cv::Mat& left, const cv::Mat& right, int maxDisparity);
 
-    // Gives back the buffers the last compute() kept (the next one allocates them again). For a
-    // caller that matches seldom: the chain matches one capture a cycle, minutes apart, and the
-    // buffers (about 170 MB for a blade at 3840x1080) would sit idle in between, on a box of a
-    // few GB, to save about 50 ms of page faults a cycle.
+    // Gives back the buffers the last compute() kept (the next one allocates them again).
     void releaseBuffers();
+    // Keep (the default): every buffer is kept for the next pair of the same size and band width.
+    // Not keep: each stage's scratch goes back as the stage ends (the per-eye derivatives and edge
+    // maps before the scanlines, where the cost volumes peak) and the rest when compute() returns.
+    // For a caller that matches seldom: the chain matches one capture a cycle, minutes apart, and
+    // the buffers (about 120 MB for a blade at 3840x1080) would sit idle in between, on a box of a
+    // few GB, to save about 50 ms of page faults a cycle.
+    void setKeepBuffers(bool keep);
 
     Method method() const;
     const Parameters& parameters() const;

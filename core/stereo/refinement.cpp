@@ -430,7 +430,7 @@ WindowSums windowSumsOfPixel(const cv::Mat& left, const RightRows* rows, int x, 
 // last pixels of a row and groups whose loads would leave the image are summed one at a time with
 // the same arithmetic.
 void refineSubpixelByIntensity(const cv::Mat& greyLeft, const cv::Mat& greyRight, int radius, int iterations,
-                               float maxChange, cv::Mat& disparity) {
+                               float maxChange, cv::Mat& disparity, RefinementScratch* scratch) {
     CV_Assert(greyLeft.type() == CV_32FC1 && greyRight.type() == CV_32FC1 && disparity.type() == CV_32FC1);
     CV_Assert(greyLeft.size() == greyRight.size() && greyLeft.size() == disparity.size() && radius >= 1);
     constexpr int kLanes = cv::v_float32::nlanes;
@@ -440,12 +440,13 @@ void refineSubpixelByIntensity(const cv::Mat& greyLeft, const cv::Mat& greyRight
     const cv::Mat& left = greyLeft;
     const cv::Mat& right = greyRight;
 
-    // Reallocated only when the size changes. The stripes run on other threads, which must see
-    // the caller's buffers, not thread_local ones of their own: hence the references.
-    thread_local cv::Mat slopeBuffer, derivativeBuffer, derivativeSlopeBuffer;
-    cv::Mat& slope = slopeBuffer;
-    cv::Mat& derivative = derivativeBuffer;
-    cv::Mat& derivativeSlope = derivativeSlopeBuffer;
+    // Reallocated only when the size changes. The stripes run on other threads and see these
+    // buffers through the references.
+    RefinementScratch own;
+    RefinementScratch& buffers = scratch ? *scratch : own;
+    cv::Mat& slope = buffers.slope;
+    cv::Mat& derivative = buffers.derivative;
+    cv::Mat& derivativeSlope = buffers.derivativeSlope;
     for (cv::Mat* m : {&slope, &derivative, &derivativeSlope}) m->create(height, width, CV_32FC1);
     cv::Mat straddles(disparity.size(), CV_8UC1);
     // Before any pixel is refined, as in refineEachPixel, but a band of rows per stripe.

@@ -56,6 +56,7 @@ cv::Mat SgbmMatcher::compute(const cv::Mat& left, const cv::Mat& right, Disparit
 
     cv::Mat fixedPoint;
     sgbm_->compute(left, right, fixedPoint);  // CV_16S, disparity × 16; none: below 16 first
+    if (!keepBuffers_) releaseBuffers();
     cv::Mat disparity(fixedPoint.size(), CV_32FC1);
     cv::Mat outside(fixedPoint.size(), CV_8UC1, cv::Scalar(0));
     for (int y = 0; y < fixedPoint.rows; ++y) {

@@ -16,9 +16,11 @@ public:
     // 8-bit inputs already validated (matcher.cpp rounds float ones).
     cv::Mat compute(const cv::Mat& left, const cv::Mat& right, DisparityRange range);
     void releaseBuffers() { sgbm_.release(); }  // OpenCV's matcher keeps its buffer
+    void setKeepBuffers(bool keep) { keepBuffers_ = keep; }
 
 private:
     Parameters parameters_;
+    bool keepBuffers_ = true;
     cv::Ptr<cv::StereoSGBM> sgbm_;
 };
 

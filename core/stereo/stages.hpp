@@ -158,11 +158,23 @@ inline constexpr int kCensus9Words = 5;
 // smoothing.
 void sobel16(const cv::Mat& image, cv::Mat& dx, cv::Mat& dy);
 // 1 where the 7x7 window applies (gradient magnitude > threshold), 0 for 9x9. CV_8UC1.
-cv::Mat censusWindowMask(const cv::Mat& grey, double gradientThreshold);
+// Image-sized scratch of the per-eye stages below, which the matcher keeps between pairs of one
+// size (fresh buffers of this size cost more in page faults than the work done in them) unless
+// told not to keep buffers (Matcher::setKeepBuffers). Without one, a stage uses its own for the
+// call.
+struct EyeScratch {
+    cv::Mat dx, dy;                       // 3x3 Sobel of the grey image
+    cv::Mat colourDx, colourDy;           // and of the colour one
+    std::vector<std::int32_t> magnitude;  // Canny: squared gradients with a border
+    std::vector<std::uint8_t> cannyCells; // Canny: the map with a border
+    std::vector<std::int32_t> stack;      // Canny: the hysteresis stack
+    std::vector<double> response;         // Harris
+};
+cv::Mat censusWindowMask(const cv::Mat& grey, double gradientThreshold, EyeScratch* scratch = nullptr);
 // Per-pixel gradient magnitude of each colour channel, 3x3 Sobel / 8 in grey levels per pixel,
 // times kGradientSteps, rounded and saturated, CV_8UC3.
 inline constexpr int kGradientSteps = 4;
-cv::Mat channelGradientMagnitudes(const cv::Mat& bgr);
+cv::Mat channelGradientMagnitudes(const cv::Mat& bgr, EyeScratch* scratch = nullptr);
 // windowMask: which code each pixel needs (1 = 7x7, 0 = 9x9); empty computes both codes (the
 // right image, whose pixels are compared with left pixels of either window).
 void improvedCensus(const cv::Mat& grey, const cv::Mat& edgeCorner, int alpha, const cv::Mat& windowMask,
@@ -205,7 +217,7 @@ private:
 // ---- edge_corner_bits.cpp ---------------------------------------------------------------------
 // bit 1 = Canny edge, bit 0 = Harris corner (response > harrisThreshold x the largest), from the
 // 3x3 Sobel derivatives of grey (CV_8UC1). CV_8UC1.
-cv::Mat edgeCornerBits(const cv::Mat& grey, const Parameters& parameters);
+cv::Mat edgeCornerBits(const cv::Mat& grey, const Parameters& parameters, EyeScratch* scratch = nullptr);
 // Canny's edges from 3x3 Sobel derivatives (CV_16SC1 each) with the L2 gradient norm: the map
 // cv::Canny(dx, dy, edges, low, high, true) gives, 255 on edges and 0 elsewhere, CV_8UC1.
 void cannyEdges(const cv::Mat& dx, const cv::Mat& dy, double low, double high, cv::Mat& edges);
@@ -336,9 +348,13 @@ int adjustDiscontinuities(const CostVolume& costs, cv::Mat& disparity);
 cv::Mat subpixelRefine(const cv::Mat& disparity, const CostVolume& costs, DisparityRange band);
 // Removes what is left of pixel locking: Gauss-Newton steps of 1-D Lucas-Kanade on the grey
 // images (zero-mean over a (2r+1)^2 window), starting from the fitted disparity and staying
-// within ±maxChange of it. greyLeft, greyRight: CV_32FC1.
+// within ±maxChange of it. greyLeft, greyRight: CV_32FC1. `scratch`: three images of their size,
+// kept by the caller between pairs (EyeScratch says why); none: the call's own.
+struct RefinementScratch {
+    cv::Mat slope, derivative, derivativeSlope;
+};
 void refineSubpixelByIntensity(const cv::Mat& greyLeft, const cv::Mat& greyRight, int radius, int iterations,
-                               float maxChange, cv::Mat& disparity);
+                               float maxChange, cv::Mat& disparity, RefinementScratch* scratch = nullptr);
 // The same, one window sample at a time; the optimised kernel sums in another order, so the two
 // agree to float rounding, not bit for bit.
 void refineSubpixelByIntensityReference(const cv::Mat& greyLeft, const cv::Mat& greyRight, int radius,

@@ -174,6 +174,7 @@ VolumeChain::VolumeChain(const calib::StereoCalibration& calibration, const Para
     if (!parameters.roiPolygon.empty()) {
         impl_->polygonRoi = roiMaskFromPolygon(polygonFromFlat(parameters.roiPolygon), c);
     }
+    impl_->matcher.setKeepBuffers(false);  // a capture a cycle: Matcher::setKeepBuffers says why
 }
 
 VolumeChain::~VolumeChain() = default;
@@ -236,7 +237,6 @@ Surface VolumeChain::Impl::measure(StereoPair raw, const Surface* baseline) {
     s.matched.band = region.empty() ? stereo::DisparityRange{0, parameters.maxDisparity} : region.band;
     s.matchedWindow = window;
     cv::Mat disparity = matcher.compute(left, right, s.matched.band);
-    matcher.releaseBuffers();  // a capture a cycle: Matcher::releaseBuffers says why
     if (!region.empty()) {
         // Left of the region's box the window only served as the right eye's reach.
         disparity(cv::Rect(0, 0, region.box.x - window.x, window.height)).setTo(stereo::kInvalidDisparity);

@@ -135,6 +135,13 @@ TEST(CensusMatcher, ReleasedBuffersGiveTheSameAnswerAgain) {
         matcher.releaseBuffers();
         matcher.releaseBuffers();  // twice: nothing left to give back, no harm
         EXPECT_EQ(cv::norm(kept, matcher.compute(left, right, 12), cv::NORM_INF), 0.0) << methodName(method);
+        // Not keeping buffers (each stage's scratch goes back as the stage ends): the same again,
+        // twice in a row, and after switching back.
+        matcher.setKeepBuffers(false);
+        EXPECT_EQ(cv::norm(kept, matcher.compute(left, right, 12), cv::NORM_INF), 0.0) << methodName(method);
+        EXPECT_EQ(cv::norm(kept, matcher.compute(left, right, 12), cv::NORM_INF), 0.0) << methodName(method);
+        matcher.setKeepBuffers(true);
+        EXPECT_EQ(cv::norm(kept, matcher.compute(left, right, 12), cv::NORM_INF), 0.0) << methodName(method);
     }
 }
 
