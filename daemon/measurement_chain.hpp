@@ -46,7 +46,8 @@ public:
     virtual ChainResult setBaseline(const StereoPair& clean) = 0;
     virtual bool hasBaseline() const = 0;
     // Measures one pair against the baseline. Bad images are a Refused result, never an exception.
-    virtual ChainResult estimate(const StereoPair& current) = 0;
+    // By value: a caller that moves the pair in lets the chain free it once it is rectified.
+    virtual ChainResult estimate(StereoPair current) = 0;
 };
 
 }  // namespace icewatch::daemon

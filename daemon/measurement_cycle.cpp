@@ -112,7 +112,7 @@ std::optional<CycleOutcome> runMeasurementCycle(FrameSource& source, Measurement
         return outcome;
     }
     const auto averageStart = Steady::now();
-    const volume::AveragedCapture capture = burst->average.finish();
+    volume::AveragedCapture capture = burst->average.finish();
     r.timingsMs["average"] = burst->averageMs + msSince(averageStart);
     r.framesHealthy = capture.framesHealthy;
     r.framesMeasured = capture.framesUsed;
@@ -131,7 +131,11 @@ std::optional<CycleOutcome> runMeasurementCycle(FrameSource& source, Measurement
         return std::nullopt;
     }
     const auto measureStart = Steady::now();
-    ChainResult c = chain.estimate(splitSideBySide(capture.frame));
+    // The eyes as views of the average, which the chain then holds alone: it lets the capture go
+    // once rectified, before the matcher takes its buffers (17 MB at 3840x1080).
+    StereoPair eyes = sideBySideViews(capture.frame);
+    capture.frame.release();
+    ChainResult c = chain.estimate(std::move(eyes));
     progress();
     r.timingsMs["measure"] = msSince(measureStart);
     for (const auto& [stage, ms] : c.timingsMs) r.timingsMs["chain_" + stage] = ms;

@@ -56,13 +56,13 @@ ChainResult VolumeMeasurementChain::setBaseline(const StereoPair& clean) {
     return ok;
 }
 
-ChainResult VolumeMeasurementChain::estimate(const StereoPair& current) {
+ChainResult VolumeMeasurementChain::estimate(StereoPair current) {
     if (!baseline_) {
         return failure(ChainResult::Status::Failed, "no baseline set");
     }
     volume::Surface surface;
     try {
-        surface = chain_.measureSurface(current, *baseline_);
+        surface = chain_.measureSurface(std::move(current), *baseline_);
     } catch (const InvalidInput& e) {
         return failure(ChainResult::Status::Failed, e.what());
     }

@@ -23,7 +23,7 @@ public:
     std::string calibrationSha256() const override { return calibrationSha256_; }
     ChainResult setBaseline(const StereoPair& clean) override;
     bool hasBaseline() const override { return baseline_.has_value(); }
-    ChainResult estimate(const StereoPair& current) override;
+    ChainResult estimate(StereoPair current) override;
 
 private:
     std::string calibrationSha256_;

@@ -353,16 +353,31 @@ void checkFrameSize(const StereoCalibration& calibration, cv::Size frameSize, co
     }
 }
 
-Rectifier::Rectifier(const StereoCalibration& c) : imageSize_(c.imageSize) {
-    StereoCalibration derived = c;
-    if (derived.R1.empty() || derived.P1.empty()) {
-        deriveRectification(derived);
+Rectifier::Rectifier(const StereoCalibration& c) : calibration_(c), imageSize_(c.imageSize) {
+    if (calibration_.R1.empty() || calibration_.P1.empty()) {
+        deriveRectification(calibration_);
     }
+    buildMaps();
+}
+
+void Rectifier::buildMaps() {
     // Fixed-point maps (CV_16SC2 + interpolation table): half the memory and faster remaps.
-    cv::initUndistortRectifyMap(derived.M1, derived.D1, derived.R1, derived.P1, imageSize_, CV_16SC2, leftMap1_,
-                                leftMap2_);
-    cv::initUndistortRectifyMap(derived.M2, derived.D2, derived.R2, derived.P2, imageSize_, CV_16SC2, rightMap1_,
-                                rightMap2_);
+    const StereoCalibration& c = calibration_;
+    leftMap1_ = leftMap2_ = rightMap1_ = rightMap2_ = cv::Mat();  // the old ones go first
+    cv::initUndistortRectifyMap(c.M1, c.D1, c.R1, c.P1, imageSize_, CV_16SC2, leftMap1_, leftMap2_);
+    cv::initUndistortRectifyMap(c.M2, c.D2, c.R2, c.P2, imageSize_, CV_16SC2, rightMap1_, rightMap2_);
+    mapped_ = cv::Rect({0, 0}, imageSize_);
+}
+
+void Rectifier::focus(const cv::Rect& box) {
+    if ((box & cv::Rect({0, 0}, imageSize_)) != box || box.empty()) {
+        throw InvalidInput("rectification box lies outside the " + sizeText(imageSize_) + " image");
+    }
+    if (box == mapped_) return;
+    if ((box & mapped_) != box) buildMaps();
+    const cv::Rect inMaps = box - mapped_.tl();
+    for (cv::Mat* m : {&leftMap1_, &leftMap2_, &rightMap1_, &rightMap2_}) *m = (*m)(inMaps).clone();
+    mapped_ = box;
 }
 
 StereoPair Rectifier::rectify(const StereoPair& pair) const { return rectify(pair, cv::Rect({0, 0}, imageSize_)); }
@@ -375,10 +390,14 @@ StereoPair Rectifier::rectify(const StereoPair& pair, const cv::Rect& box) const
     if ((box & cv::Rect({0, 0}, imageSize_)) != box || box.empty()) {
         throw InvalidInput("rectification box lies outside the " + sizeText(imageSize_) + " image");
     }
+    if ((box & mapped_) != box) {
+        throw InvalidInput("rectification box lies outside the part of the maps kept (Rectifier::focus)");
+    }
     // The maps are per output pixel: a box of them rectifies that part alone.
+    const cv::Rect inMaps = box - mapped_.tl();
     StereoPair out;
-    cv::remap(pair.left, out.left, leftMap1_(box), leftMap2_(box), cv::INTER_LINEAR, cv::BORDER_CONSTANT);
-    cv::remap(pair.right, out.right, rightMap1_(box), rightMap2_(box), cv::INTER_LINEAR, cv::BORDER_CONSTANT);
+    cv::remap(pair.left, out.left, leftMap1_(inMaps), leftMap2_(inMaps), cv::INTER_LINEAR, cv::BORDER_CONSTANT);
+    cv::remap(pair.right, out.right, rightMap1_(inMaps), rightMap2_(inMaps), cv::INTER_LINEAR, cv::BORDER_CONSTANT);
     return out;
 }
 

@@ -217,6 +217,9 @@ Surface VolumeChain::Impl::measure(StereoPair raw, const Surface* baseline) {
     StageTimer timer(clock, s.timingsMs);
     const cv::Size size = rectifier.imageSize();
     MatchRegion region = baseline && parameters.matchRegion ? baseline->followUp : MatchRegion{};
+    // A baseline may be matched anywhere: the whole rectification maps (built again when an
+    // earlier baseline left only its region's).
+    if (!baseline) rectifier.focus(cv::Rect({0, 0}, size));
     if (!baseline && !polygonRoi.empty() && parameters.matchRegion) {
         region = coarseRegion(raw);
         timer.lap("coarse");
@@ -225,6 +228,7 @@ Surface VolumeChain::Impl::measure(StereoPair raw, const Surface* baseline) {
     const cv::Rect window = region.empty() ? cv::Rect({0, 0}, size) : matcherWindow(region, size);
     cv::Mat left, right;
     {
+        if (baseline) rectifier.focus(window);  // kept so after the baseline: nothing to do
         const StereoPair rectified = rectifier.rectify(raw, window);
         raw = {};  // the last reference to the capture, when the caller moved it in
         left = toFloatGrey(rectified.left);
@@ -279,7 +283,11 @@ Surface VolumeChain::Impl::measure(StereoPair raw, const Surface* baseline) {
             else if (inPlace < kLeftCorrelation) s.regionHint = *problem;
         }
     }
-    if (!baseline && parameters.matchRegion) s.followUp = followUpRegion(s);
+    if (!baseline && parameters.matchRegion) {
+        s.followUp = followUpRegion(s);
+        // Later captures are rectified in the followUp window alone: only its maps are kept.
+        if (!s.followUp.empty()) rectifier.focus(matcherWindow(s.followUp, size));
+    }
     timer.lap("region");
     return s;
 }

@@ -405,14 +405,17 @@ CaptureError CameraCapture::grab(CapturedFrame& frame) {
     const auto* data = static_cast<const std::uint8_t*>(buffers_[newest.index].address);
     frameBytes_.assign(data, data + newest.bytesused);
     if (CaptureError g = giveBack(newest.index); g != CaptureError::kNone) return g;
+    // A fresh image each frame, which the frame's eyes then view: no copy of the eyes, and
+    // nothing of the size of a frame stays behind between bursts.
+    cv::Mat bgr;
     if (auto bad = decoder_.decode(mode_.format, frameBytes_.data(), frameBytes_.size(), mode_.width, mode_.height,
-                                   bgr_)) {
+                                   bgr)) {
         ++stats_.dropped[static_cast<std::size_t>(*bad)];
         lastError_ = "frame " + std::to_string(newest.sequence) + " dropped: " + decoder_.message();
         log_->debug("camera {}: {}", path_, lastError_);
         return CaptureError::kNoValidFrame;
     }
-    frame.pair = splitSideBySide(bgr_);
+    frame.pair = sideBySideViews(bgr);
     frame.sequence = newest.sequence;
     frame.timestampUs = std::int64_t{newest.timestamp.tv_sec} * 1000000 + newest.timestamp.tv_usec;
     frame.bytes = frameBytes_.size();

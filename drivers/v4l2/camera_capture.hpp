@@ -175,7 +175,6 @@ private:
     std::string lastError_;
     FrameDecoder decoder_;
     std::vector<std::uint8_t> frameBytes_;
-    cv::Mat bgr_;
     std::shared_ptr<spdlog::logger> log_;
     log::StateLog stateLog_;
     log::StateLog modeLog_;

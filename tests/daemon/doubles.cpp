@@ -51,7 +51,7 @@ ChainResult ScriptedChain::setBaseline(const StereoPair& clean) {
     return r;
 }
 
-ChainResult ScriptedChain::estimate(const StereoPair& current) {
+ChainResult ScriptedChain::estimate(StereoPair current) {
     ++calls;
     if (!baselineSet) {
         ChainResult r;

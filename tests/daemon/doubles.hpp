@@ -43,7 +43,7 @@ public:
     std::string calibrationSha256() const override { return calibration; }
     ChainResult setBaseline(const StereoPair& clean) override;
     bool hasBaseline() const override { return baselineSet; }
-    ChainResult estimate(const StereoPair& current) override;
+    ChainResult estimate(StereoPair current) override;
 
     std::string calibration = "c0ffee";
     bool baselineSet = true;

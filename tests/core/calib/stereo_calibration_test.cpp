@@ -170,5 +170,36 @@ TEST(Rectifier, IdentityForNominalPairAndSizeCheck) {
     }
 }
 
+// Keeping the maps of one box (the chain's region) rectifies that box exactly as the whole maps
+// do; a box outside it is refused until focus() builds the whole maps again, which then give the
+// same pixels once more. A distorted, rotated calibration, so that the maps are not the identity.
+TEST(Rectifier, FocusedMapsGiveTheSamePixels) {
+    StereoCalibration c = nominalCalibration({96, 64}, 80.0, 60.0);
+    c.D1 = (cv::Mat_<double>(1, 5) << -0.2, 0.05, 0.001, -0.002, 0.0);
+    c.D2 = (cv::Mat_<double>(1, 5) << 0.1, -0.03, 0.0, 0.001, 0.0);
+    c.R = (cv::Mat_<double>(3, 3) << 0.9998, -0.02, 0.0, 0.02, 0.9998, 0.0, 0.0, 0.0, 1.0);
+    c.R1 = c.R2 = c.P1 = c.P2 = c.Q = cv::Mat();
+    Rectifier rectifier(c);
+    StereoPair pair{cv::Mat(64, 96, CV_8UC3), cv::Mat(64, 96, CV_8UC3)};
+    cv::randu(pair.left, 0, 255);
+    cv::randu(pair.right, 0, 255);
+    const StereoPair whole = rectifier.rectify(pair);
+    const cv::Rect box(20, 10, 50, 30), inner(25, 12, 20, 20), outside(0, 0, 40, 40);
+    rectifier.focus(box);
+    EXPECT_EQ(rectifier.mapped(), box);
+    for (const cv::Rect& r : {box, inner}) {
+        const StereoPair part = rectifier.rectify(pair, r);
+        EXPECT_EQ(cv::norm(part.left, whole.left(r), cv::NORM_INF), 0.0);
+        EXPECT_EQ(cv::norm(part.right, whole.right(r), cv::NORM_INF), 0.0);
+    }
+    EXPECT_THROW(rectifier.rectify(pair, outside), InvalidInput);
+    EXPECT_THROW(rectifier.rectify(pair), InvalidInput);
+    rectifier.focus(outside);
+    const StereoPair again = rectifier.rectify(pair, outside);
+    EXPECT_EQ(cv::norm(again.left, whole.left(outside), cv::NORM_INF), 0.0);
+    EXPECT_EQ(cv::norm(again.right, whole.right(outside), cv::NORM_INF), 0.0);
+    EXPECT_THROW(rectifier.focus(cv::Rect(90, 0, 10, 10)), InvalidInput);
+}
+
 }  // namespace
 }  // namespace icewatch::calib
