@@ -193,7 +193,8 @@ void Daemon::loadStoredBaseline() {
                         record->calibrationSha256, calibration);
         return;
     }
-    const ChainResult accepted = parts_.chain->setBaseline(record->pair);
+    // Moved in: the stored images are not needed again, and the chain lets them go once rectified.
+    const ChainResult accepted = parts_.chain->setBaseline(std::move(record->pair));
     if (accepted.status != ChainResult::Status::Ok) {
         logger()->error("the stored baseline was refused by the volume chain: {}", accepted.reason);
         return;

@@ -43,7 +43,8 @@ public:
     // SHA-256 of the calibration it measures with; a baseline taken under another one is not used.
     virtual std::string calibrationSha256() const = 0;
     // Builds the reference (clean blade) surface from a pair. Not Ok: no baseline is set.
-    virtual ChainResult setBaseline(const StereoPair& clean) = 0;
+    // By value, as estimate.
+    virtual ChainResult setBaseline(StereoPair clean) = 0;
     virtual bool hasBaseline() const = 0;
     // Measures one pair against the baseline. Bad images are a Refused result, never an exception.
     // By value: a caller that moves the pair in lets the chain free it once it is rectified.

@@ -38,9 +38,9 @@ VolumeMeasurementChain::VolumeMeasurementChain(const calib::StereoCalibration& c
       pictureScale_(pictures),
       chain_(calibration, parameters, [] { return std::chrono::steady_clock::now(); }) {}
 
-ChainResult VolumeMeasurementChain::setBaseline(const StereoPair& clean) {
+ChainResult VolumeMeasurementChain::setBaseline(StereoPair clean) {
     try {
-        volume::Surface surface = chain_.measureSurface(clean);
+        volume::Surface surface = chain_.measureSurface(std::move(clean));
         if (surface.validPercent < minValidPercent_) {
             return failure(ChainResult::Status::Refused,
                            "baseline has " + std::to_string(static_cast<int>(surface.validPercent)) +

@@ -21,7 +21,7 @@ public:
                            const volume::Parameters& parameters, const pictures::PictureScale& pictures = {});
 
     std::string calibrationSha256() const override { return calibrationSha256_; }
-    ChainResult setBaseline(const StereoPair& clean) override;
+    ChainResult setBaseline(StereoPair clean) override;
     bool hasBaseline() const override { return baseline_.has_value(); }
     ChainResult estimate(StereoPair current) override;
 

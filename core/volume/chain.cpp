@@ -108,8 +108,6 @@ cv::Mat placedInFrame(const cv::Mat& image, const cv::Rect& window, cv::Size fra
     return out;
 }
 
-bool validPoint(const cv::Vec3f& p) { return !std::isnan(p[2]); }
-
 VolumeResult refused(VolumeResult result, const std::string& reason) {
     result.ok = false;
     result.reason = reason;
@@ -283,6 +281,11 @@ Surface VolumeChain::Impl::measure(StereoPair raw, const Surface* baseline) {
             else if (inPlace < kLeftCorrelation) s.regionHint = *problem;
         }
     }
+    if (!baseline && cv::countNonZero(s.roi) > 0) {
+        s.model = std::make_shared<const BaselineModel>(buildBaselineModel(
+            s.roi, reproject(s.disparity, calibration.Q, window), {s.trackLeft, s.trackRight, s.disparity}, parameters));
+        timer.lap("model");
+    }
     if (!baseline && parameters.matchRegion) {
         s.followUp = followUpRegion(s);
         // Later captures are rectified in the followUp window alone: only its maps are kept.
@@ -349,32 +352,23 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
         }
     }
 
-    // --- the baseline's measured points and its plane frame ---
-    const cv::Mat baselineCloud = points(baseline);
-    cv::Mat measured;
-    cv::erode(baseline.roi, measured,
-              cv::getStructuringElement(cv::MORPH_ELLIPSE, {2 * p.edgeMarginPx + 1, 2 * p.edgeMarginPx + 1}));
-    std::vector<cv::Vec3d> baselinePoints;
-    for (int y = 0; y < measured.rows; ++y)
-        for (int x = 0; x < measured.cols; ++x) {
-            const cv::Vec3f q = baselineCloud.at<cv::Vec3f>(y, x);
-            if (measured.at<std::uint8_t>(y, x) && validPoint(q)) baselinePoints.emplace_back(q[0], q[1], q[2]);
-            else measured.at<std::uint8_t>(y, x) = 0;
-        }
-    if (static_cast<int>(baselinePoints.size()) < p.minPoints) {
-        return refused(result, "too few baseline points in the region: " + std::to_string(baselinePoints.size()));
+    // --- what the estimate needs of the baseline alone: kept with a baseline's surface ---
+    std::shared_ptr<const BaselineModel> model = baseline.model;
+    if (!model) {
+        model = std::make_shared<const BaselineModel>(
+            buildBaselineModel(baseline.roi, points(baseline), {baseline.trackLeft, baseline.trackRight, baseline.disparity}, p));
     }
-    const PlaneFrame plane = fitPlane(baselinePoints);
+    if (model->measuredPoints < p.minPoints) {
+        return refused(result, "too few baseline points in the region: " + std::to_string(model->measuredPoints));
+    }
+    const PlaneFrame& plane = model->plane;
     const double depthMm = plane.origin[2];
     timer.lap("plane");
 
     // --- how the object moved: from the texture the ice did not change, in both eyes ---
     const RectifiedCapture before{baseline.trackLeft, baseline.trackRight, baseline.disparity};
     const RectifiedCapture after{current.trackLeft, current.trackRight, current.disparity};
-    TextureTrackOptions trackOptions;
-    trackOptions.patch.radiusPx = p.trackRadiusPx;
-    trackOptions.stepPx = p.trackStepPx;
-    trackOptions.temporalSearchPx = p.trackSearchPx;
+    const TextureTrackOptions trackOptions = textureTrackOptions(p);
     // The trackers start from the scene's global shift; a phase correlation can lock onto the
     // wrong peak (bright ice that appeared, a repeated texture), so a shift larger than any motion
     // the registration accepts is not believed and the search starts where the object was.
@@ -383,7 +377,7 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
                             : globalImageShift(baseline.leftGrey, current.leftGrey, baseline.roi);
     if (cv::norm(prior) > p.maxRegistrationMm * impl_->focalPx / depthMm) prior = {0, 0};
     const std::vector<TextureTrack> tracks =
-        trackTexture(before, after, baseline.roi, cv::Matx44d(impl_->calibration.Q), prior, trackOptions);
+        trackTexture(model->samples, before, after, cv::Matx44d(impl_->calibration.Q), prior, trackOptions);
     timer.lap("track");
     MotionEvidenceOptions evidence;
     evidence.minPairs = p.minEvidenceSamples;
@@ -419,7 +413,7 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
 
     // --- both clouds on the baseline's plane, strays out ---
     const cv::Mat currentOutline = outlineInCurrent(baseline.roi, plane, transform, impl_->projection, p.edgeMarginPx);
-    const PlaneClouds clouds = planeClouds(baselineCloud, measured, points(current), currentOutline, plane, transform, p);
+    const PlaneClouds clouds = planeClouds(model->cloud, points(current), currentOutline, plane, transform, p);
     result.pointsUsed = clouds.currentPoints;
     timer.lap("filter");
     if (result.pointsUsed < p.minPoints) {

@@ -17,6 +17,7 @@
 #include "core/volume/match_region.hpp"
 #include "core/volume/parameters.hpp"
 #include "core/volume/patch_tracker.hpp"
+#include "core/volume/baseline_model.hpp"
 #include "core/volume/uncertainty.hpp"
 
 namespace icewatch::volume {
@@ -47,6 +48,9 @@ struct Surface {
     // The scene's shift from the baseline it was measured against (phase correlation in the
     // baseline's region, px): the region check's and the trackers' start. Empty when measured alone.
     std::optional<cv::Point2d> shiftFromBaselinePx;
+    // A baseline's (measured without one): what the estimate needs of it alone, worked out once
+    // (baseline_model.hpp). Shared, so that copies of the surface share it too.
+    std::shared_ptr<const BaselineModel> model;
     Timings timingsMs;
 };
 

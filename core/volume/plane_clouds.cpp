@@ -32,15 +32,11 @@ cv::Rect boundingBox(const std::vector<cv::Point>& a, const std::vector<cv::Poin
 
 }  // namespace
 
-PlaneClouds planeClouds(const cv::Mat& baselinePoints, const cv::Mat& measured, const cv::Mat& currentPoints,
-                        const cv::Mat& currentOutline, const PlaneFrame& plane, const RigidTransform& toBaseline,
-                        const Parameters& p) {
-    CV_Assert(baselinePoints.type() == CV_32FC3 && currentPoints.type() == CV_32FC3 &&
-              baselinePoints.size() == currentPoints.size() && measured.size() == baselinePoints.size() &&
-              currentOutline.size() == currentPoints.size());
+BaselineCloud baselineCloud(const cv::Mat& baselinePoints, const cv::Mat& measured, const PlaneFrame& plane,
+                            const Parameters& p) {
+    CV_Assert(baselinePoints.type() == CV_32FC3 && measured.size() == baselinePoints.size());
+    BaselineCloud cloud;
     double hMin = std::numeric_limits<double>::infinity(), hMax = -hMin;
-    std::vector<cv::Point3d> baselineList, currentList;
-    std::vector<cv::Point> baselineAt, currentAt;
     for (int y = 0; y < measured.rows; ++y)
         for (int x = 0; x < measured.cols; ++x) {
             const cv::Vec3f q = baselinePoints.at<cv::Vec3f>(y, x);
@@ -48,33 +44,51 @@ PlaneClouds planeClouds(const cv::Mat& baselinePoints, const cv::Mat& measured, 
             const cv::Point3d local = plane.toPlane(cv::Vec3d(q[0], q[1], q[2]));
             hMin = std::min(hMin, local.z);
             hMax = std::max(hMax, local.z);
-            baselineList.push_back(local);
-            baselineAt.emplace_back(x, y);
+            cloud.points.push_back(local);
+            cloud.pixels.emplace_back(x, y);
         }
+    cloud.lowestMm = hMin;
+    cloud.highestMm = hMax;
+    cloud.keep = knnKeepMask(cloud.points, p.knnK, p.knnTheta);
+    return cloud;
+}
+
+PlaneClouds planeClouds(const BaselineCloud& baseline, const cv::Mat& currentPoints, const cv::Mat& currentOutline,
+                        const PlaneFrame& plane, const RigidTransform& toBaseline, const Parameters& p) {
+    CV_Assert(currentPoints.type() == CV_32FC3 && currentOutline.size() == currentPoints.size());
+    std::vector<cv::Point3d> currentList;
+    std::vector<cv::Point> currentAt;
     for (int y = 0; y < currentPoints.rows; ++y)
         for (int x = 0; x < currentPoints.cols; ++x) {
             const cv::Vec3f q = currentPoints.at<cv::Vec3f>(y, x);
             if (!currentOutline.at<std::uint8_t>(y, x) || std::isnan(q[2])) continue;
             const cv::Point3d local = plane.toPlane(toBaseline.apply(cv::Vec3d(q[0], q[1], q[2])));
-            if (local.z < hMin - kBehindMm || local.z > hMax + p.maxThicknessMm) continue;
+            if (local.z < baseline.lowestMm - kBehindMm || local.z > baseline.highestMm + p.maxThicknessMm) continue;
             currentList.push_back(local);
             currentAt.emplace_back(x, y);
         }
     PlaneClouds clouds;
-    clouds.box = boundingBox(baselineAt, currentAt);
+    clouds.box = boundingBox(baseline.pixels, currentAt);
     clouds.baseline = cv::Mat(clouds.box.size(), CV_64FC3, cv::Scalar::all(kNaN));
     clouds.current = cv::Mat(clouds.box.size(), CV_64FC3, cv::Scalar::all(kNaN));
     const cv::Point origin = clouds.box.tl();
-    const auto keepBaseline = knnKeepMask(baselineList, p.knnK, p.knnTheta);
     const auto keepCurrent = knnKeepMask(currentList, p.knnK, p.knnTheta);
-    for (std::size_t i = 0; i < baselineList.size(); ++i)
-        if (keepBaseline[i]) clouds.baseline.at<cv::Vec3d>(baselineAt[i] - origin) = cv::Vec3d(baselineList[i]);
+    for (std::size_t i = 0; i < baseline.points.size(); ++i)
+        if (baseline.keep[i]) clouds.baseline.at<cv::Vec3d>(baseline.pixels[i] - origin) = cv::Vec3d(baseline.points[i]);
     for (std::size_t i = 0; i < currentList.size(); ++i)
         if (keepCurrent[i]) {
             clouds.current.at<cv::Vec3d>(currentAt[i] - origin) = cv::Vec3d(currentList[i]);
             ++clouds.currentPoints;
         }
     return clouds;
+}
+
+PlaneClouds planeClouds(const cv::Mat& baselinePoints, const cv::Mat& measured, const cv::Mat& currentPoints,
+                        const cv::Mat& currentOutline, const PlaneFrame& plane, const RigidTransform& toBaseline,
+                        const Parameters& p) {
+    CV_Assert(baselinePoints.size() == currentPoints.size());
+    return planeClouds(baselineCloud(baselinePoints, measured, plane, p), currentPoints, currentOutline, plane,
+                       toBaseline, p);
 }
 
 cv::Mat outlineInCurrent(const cv::Mat& roi, const PlaneFrame& plane, const RigidTransform& toBaseline,

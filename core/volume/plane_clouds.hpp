@@ -1,5 +1,8 @@
 #pragma once
 
+#include <cstdint>
+#include <vector>
+
 #include <opencv2/core.hpp>
 
 #include "core/volume/height_grid.hpp"
@@ -19,10 +22,27 @@ struct PlaneClouds {
     int currentPoints = 0;
 };
 
+// The baseline's half of the above, which depends on the baseline alone (a daemon works it out
+// once per baseline, BaselineModel): its points in the plane frame, where they lie, their height
+// range and the k-NN filter's verdict on each.
+struct BaselineCloud {
+    std::vector<cv::Point3d> points;  // u, v, h
+    std::vector<cv::Point> pixels;
+    std::vector<std::uint8_t> keep;   // 1: kept by the k-NN filter
+    double lowestMm = 0, highestMm = 0;
+};
+
 // `measured`: the baseline pixels that count (the region, eroded by the edge margin, with a
-// point); `currentOutline`: the region as the object stands in the current capture. A current
-// point far behind the baseline's lowest point is background, one above its highest point by more
-// than max_thickness_mm is sky or a stray: neither is the object.
+// point).
+BaselineCloud baselineCloud(const cv::Mat& baselinePoints, const cv::Mat& measured, const PlaneFrame& plane,
+                            const Parameters& parameters);
+
+// `currentOutline`: the region as the object stands in the current capture. A current point far
+// behind the baseline's lowest point is background, one above its highest point by more than
+// max_thickness_mm is sky or a stray: neither is the object.
+PlaneClouds planeClouds(const BaselineCloud& baseline, const cv::Mat& currentPoints, const cv::Mat& currentOutline,
+                        const PlaneFrame& plane, const RigidTransform& toBaseline, const Parameters& parameters);
+// Both halves at once.
 PlaneClouds planeClouds(const cv::Mat& baselinePoints, const cv::Mat& measured, const cv::Mat& currentPoints,
                         const cv::Mat& currentOutline, const PlaneFrame& plane, const RigidTransform& toBaseline,
                         const Parameters& parameters);

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <opencv2/imgproc.hpp>
 
@@ -36,6 +37,18 @@ bool appearanceChanged(const PatchTrack& t, const TextureTrackOptions& o) {
     return std::abs(t.offset) > std::max(o.offsetSigmas * t.offsetSigma, o.minOffsetShare * t.meanFrom);
 }
 
+// fn(i) for i in [0, n), split into fixed bands: the split, not the thread count, decides the work.
+template <class F>
+void forEachBand(std::size_t n, const F& fn) {
+    constexpr int kBands = 16;
+    cv::parallel_for_(cv::Range(0, kBands), [&](const cv::Range& bands) {
+        for (int b = bands.start; b < bands.end; ++b) {
+            const std::size_t lo = n * b / kBands, hi = n * (b + 1) / kBands;
+            for (std::size_t i = lo; i < hi; ++i) fn(i);
+        }
+    });
+}
+
 double medianOf(std::vector<double> values) {
     if (values.empty()) return 1.0;
     const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
@@ -43,19 +56,25 @@ double medianOf(std::vector<double> values) {
     return *mid;
 }
 
-TextureTrack trackOne(const RectifiedCapture& baseline, const RectifiedCapture& current, cv::Point at, bool onObject,
-                      const cv::Matx44d& q, cv::Point2d prior, const TextureTrackOptions& o) {
-    TextureTrack out;
-    out.pixel = at;
-    out.onObject = onObject;
+// The baseline's disparity at a sample, re-measured by a horizontal patch track from its left into
+// its right eye (NaN: not found).
+double stereoDisparity(const RectifiedCapture& baseline, cv::Point at, const TextureTrackOptions& o) {
+    constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
     const float matched = baseline.disparity.at<float>(at);
-    if (!(matched > 0)) return out;
+    if (!(matched > 0)) return kNone;
     PatchTrackOptions stereo = o.patch;
     stereo.horizontalOnly = true;
     stereo.searchPx = 2;
     const PatchTrack inBaseline = trackPatch(baseline.left, baseline.right, at, {-matched, 0.0}, stereo);
-    if (!inBaseline.found) return out;
-    const double disparity = -inBaseline.shift.x;
+    return inBaseline.found ? -inBaseline.shift.x : kNone;
+}
+
+TextureTrack trackOne(const RectifiedCapture& baseline, const RectifiedCapture& current, cv::Point at, bool onObject,
+                      double disparity, const cv::Matx44d& q, cv::Point2d prior, const TextureTrackOptions& o) {
+    TextureTrack out;
+    out.pixel = at;
+    out.onObject = onObject;
+    if (std::isnan(disparity)) return out;
     PatchTrackOptions temporal = o.patch;
     temporal.searchPx = o.temporalSearchPx;
     const PatchTrack left = trackPatch(baseline.left, current.left, at, prior, temporal);
@@ -94,10 +113,38 @@ TextureTrack trackOne(const RectifiedCapture& baseline, const RectifiedCapture& 
 
 }  // namespace
 
+BaselineSamples baselineSamples(const RectifiedCapture& baseline, const cv::Mat& object, const TextureTrackOptions& o) {
+    CV_Assert(object.type() == CV_8UC1 && baseline.disparity.size() == object.size());
+    const int r = o.patch.radiusPx;
+    const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_ELLIPSE, {2 * r + 1, 2 * r + 1});
+    cv::Mat inside, outside;
+    cv::erode(object, inside, kernel);
+    cv::dilate(object, outside, kernel);
+    BaselineSamples samples;
+    for (int y = o.stepPx / 2; y < object.rows; y += o.stepPx)
+        for (int x = o.stepPx / 2; x < object.cols; x += o.stepPx) {
+            const bool in = inside.at<std::uint8_t>(y, x) != 0;
+            if (!in && outside.at<std::uint8_t>(y, x) != 0) continue;  // astride the outline
+            if (!(baseline.disparity.at<float>(y, x) > 0)) continue;
+            samples.pixels.emplace_back(x, y);
+            samples.onObject.push_back(in ? 1 : 0);
+        }
+    samples.disparity.resize(samples.pixels.size());
+    forEachBand(samples.pixels.size(), [&](std::size_t i) {
+        samples.disparity[i] = stereoDisparity(baseline, samples.pixels[i], o);
+    });
+    return samples;
+}
+
 std::vector<TextureTrack> trackTexture(const RectifiedCapture& baseline, const RectifiedCapture& current,
                                        const cv::Mat& object, const cv::Matx44d& q, cv::Point2d prior,
                                        const TextureTrackOptions& o) {
-    CV_Assert(object.type() == CV_8UC1 && baseline.disparity.size() == object.size());
+    return trackTexture(baselineSamples(baseline, object, o), baseline, current, q, prior, o);
+}
+
+std::vector<TextureTrack> trackTexture(const BaselineSamples& samples, const RectifiedCapture& baseline,
+                                       const RectifiedCapture& current, const cv::Matx44d& q, cv::Point2d prior,
+                                       const TextureTrackOptions& o) {
     const int r = o.patch.radiusPx;
     // Where a patch, moved by the prior and searched around it, lies inside the current window.
     const int reach = r + o.temporalSearchPx + 1;
@@ -106,30 +153,14 @@ std::vector<TextureTrack> trackTexture(const RectifiedCapture& baseline, const R
                              window.y + reach + static_cast<int>(std::ceil(std::max(0.0, -prior.y))),
                              window.width - 2 * reach - static_cast<int>(std::ceil(std::abs(prior.x))),
                              window.height - 2 * reach - static_cast<int>(std::ceil(std::abs(prior.y))));
-    const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_ELLIPSE, {2 * r + 1, 2 * r + 1});
-    cv::Mat inside, outside;
-    cv::erode(object, inside, kernel);
-    cv::dilate(object, outside, kernel);
-    std::vector<cv::Point> pixels;
-    std::vector<std::uint8_t> onObject;
-    for (int y = o.stepPx / 2; y < object.rows; y += o.stepPx)
-        for (int x = o.stepPx / 2; x < object.cols; x += o.stepPx) {
-            const bool in = inside.at<std::uint8_t>(y, x) != 0;
-            if (!in && outside.at<std::uint8_t>(y, x) != 0) continue;  // astride the outline
-            if (!reachable.contains({x, y})) continue;
-            if (!(baseline.disparity.at<float>(y, x) > 0)) continue;
-            pixels.emplace_back(x, y);
-            onObject.push_back(in ? 1 : 0);
-        }
-    std::vector<TextureTrack> tracks(pixels.size());
-    constexpr int kBands = 16;  // fixed: the split, not the thread count, decides the work
-    cv::parallel_for_(cv::Range(0, kBands), [&](const cv::Range& bands) {
-        for (int b = bands.start; b < bands.end; ++b) {
-            const std::size_t lo = pixels.size() * b / kBands, hi = pixels.size() * (b + 1) / kBands;
-            for (std::size_t i = lo; i < hi; ++i) {
-                tracks[i] = trackOne(baseline, current, pixels[i], onObject[i] != 0, q, prior, o);
-            }
-        }
+    std::vector<std::size_t> used;
+    for (std::size_t i = 0; i < samples.pixels.size(); ++i)
+        if (reachable.contains(samples.pixels[i])) used.push_back(i);
+    std::vector<TextureTrack> tracks(used.size());
+    forEachBand(used.size(), [&](std::size_t k) {
+        const std::size_t i = used[k];
+        tracks[k] = trackOne(baseline, current, samples.pixels[i], samples.onObject[i] != 0, samples.disparity[i], q,
+                             prior, o);
     });
     // The scene's own change of brightness (light), and the patches that changed otherwise.
     std::vector<double> ratios;

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -64,6 +65,23 @@ struct TextureTrack {
 // does not depend on the number of threads.
 std::vector<TextureTrack> trackTexture(const RectifiedCapture& baseline, const RectifiedCapture& current,
                                        const cv::Mat& object, const cv::Matx44d& q, cv::Point2d prior,
+                                       const TextureTrackOptions& options = {});
+
+// The samples and step 1 above, which depend on the baseline alone (a daemon works them out once
+// per baseline, BaselineModel): every grid sample on the object or its background where the
+// baseline has a disparity, and the disparity its stereo track re-measured there (NaN where the
+// track found none). Fixed bands of samples, as above.
+struct BaselineSamples {
+    std::vector<cv::Point> pixels;
+    std::vector<std::uint8_t> onObject;
+    std::vector<double> disparity;
+};
+BaselineSamples baselineSamples(const RectifiedCapture& baseline, const cv::Mat& object,
+                                const TextureTrackOptions& options = {});
+// Steps 2 and 3 from those samples, for the ones whose patch and search the current capture's
+// window holds.
+std::vector<TextureTrack> trackTexture(const BaselineSamples& samples, const RectifiedCapture& baseline,
+                                       const RectifiedCapture& current, const cv::Matx44d& q, cv::Point2d prior,
                                        const TextureTrackOptions& options = {});
 
 // The image motion of the scene between two left images, by phase correlation inside `mask`

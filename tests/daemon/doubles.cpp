@@ -41,7 +41,7 @@ CameraState ScriptedSource::health(std::string& detail) {
     return plugged ? CameraState::Ok : CameraState::Offline;
 }
 
-ChainResult ScriptedChain::setBaseline(const StereoPair& clean) {
+ChainResult ScriptedChain::setBaseline(StereoPair clean) {
     if (clean.left.empty()) {
         return refusedResult("empty baseline");
     }

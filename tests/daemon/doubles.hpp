@@ -41,7 +41,7 @@ public:
 class ScriptedChain : public MeasurementChain {
 public:
     std::string calibrationSha256() const override { return calibration; }
-    ChainResult setBaseline(const StereoPair& clean) override;
+    ChainResult setBaseline(StereoPair clean) override;
     bool hasBaseline() const override { return baselineSet; }
     ChainResult estimate(StereoPair current) override;
 

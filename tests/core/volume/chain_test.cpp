@@ -52,6 +52,29 @@ TEST(VolumeChain, SmallBlockSceneEndToEnd) {
     EXPECT_NEAR(r.meanThicknessMm, r.volumeMm3 / r.areaMm2, 1e-9);
 }
 
+// A baseline's surface carries what the estimate needs of it alone (BaselineModel), worked out once
+// for the daemon's every cycle: the estimate gives the same result, to the last bit, as one that
+// works it out itself.
+TEST(VolumeChain, BaselineModelKeptWithTheSurfaceChangesNothing) {
+    const synth::SyntheticScene scene = smallBlock(427174, 2);
+    VolumeChain chain(scene.calibration, sgbmParameters(scene.roi));
+    const Surface baseline = chain.measureSurface(scene.before);
+    ASSERT_TRUE(baseline.model);
+    EXPECT_GT(baseline.model->samples.pixels.size(), 100u);
+    const Surface current = chain.measureSurface(scene.after, baseline);
+    EXPECT_FALSE(current.model) << "only a baseline keeps one";
+    const VolumeResult kept = chain.estimate(baseline, current);
+    Surface bare = baseline;
+    bare.model.reset();
+    const VolumeResult workedOut = chain.estimate(bare, current);
+    ASSERT_TRUE(kept.ok) << kept.reason;
+    EXPECT_EQ(kept.volumeMm3, workedOut.volumeMm3);
+    EXPECT_EQ(kept.uncertaintyMm3, workedOut.uncertaintyMm3);
+    EXPECT_EQ(kept.unchangedSamples, workedOut.unchangedSamples);
+    EXPECT_EQ(kept.registrationMm, workedOut.registrationMm);
+    EXPECT_EQ(kept.pointsUsed, workedOut.pointsUsed);
+}
+
 TEST(VolumeChain, GateRefusesADarkPair) {
     const synth::SyntheticScene scene = smallBlock(427174, 3);
     VolumeChain chain(scene.calibration, sgbmParameters(scene.roi));

@@ -1,0 +1,41 @@
+// What the estimate needs of the baseline alone (baseline_model.hpp).
+#include "core/volume/baseline_model.hpp"
+
+#include <cmath>
+#include <vector>
+
+#include <opencv2/imgproc.hpp>
+
+namespace icewatch::volume {
+
+TextureTrackOptions textureTrackOptions(const Parameters& p) {
+    TextureTrackOptions o;
+    o.patch.radiusPx = p.trackRadiusPx;
+    o.stepPx = p.trackStepPx;
+    o.temporalSearchPx = p.trackSearchPx;
+    return o;
+}
+
+BaselineModel buildBaselineModel(const cv::Mat& roi, const cv::Mat& points, const RectifiedCapture& capture,
+                                 const Parameters& p) {
+    CV_Assert(roi.type() == CV_8UC1 && points.type() == CV_32FC3 && roi.size() == points.size());
+    BaselineModel model;
+    // Depths mix at the outline: its margin does not count.
+    cv::Mat measured;
+    cv::erode(roi, measured, cv::getStructuringElement(cv::MORPH_ELLIPSE, {2 * p.edgeMarginPx + 1, 2 * p.edgeMarginPx + 1}));
+    std::vector<cv::Vec3d> measuredPoints;
+    for (int y = 0; y < measured.rows; ++y)
+        for (int x = 0; x < measured.cols; ++x) {
+            const cv::Vec3f q = points.at<cv::Vec3f>(y, x);
+            if (measured.at<std::uint8_t>(y, x) && !std::isnan(q[2])) measuredPoints.emplace_back(q[0], q[1], q[2]);
+            else measured.at<std::uint8_t>(y, x) = 0;
+        }
+    model.measuredPoints = static_cast<int>(measuredPoints.size());
+    if (model.measuredPoints < p.minPoints) return model;
+    model.plane = fitPlane(measuredPoints);
+    model.cloud = baselineCloud(points, measured, model.plane, p);
+    model.samples = baselineSamples(capture, roi, textureTrackOptions(p));
+    return model;
+}
+
+}  // namespace icewatch::volume

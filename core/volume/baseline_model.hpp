@@ -1,0 +1,33 @@
+#pragma once
+// What the estimate needs of the baseline alone, worked out once per baseline: the daemon keeps
+// the baseline's surface and estimates against it every cycle, and none of this changes between
+// cycles. The numbers are those an estimate would work out itself, to the last bit.
+
+#include <opencv2/core.hpp>
+
+#include "core/volume/height_grid.hpp"
+#include "core/volume/parameters.hpp"
+#include "core/volume/plane_clouds.hpp"
+#include "core/volume/texture_tracks.hpp"
+
+namespace icewatch::volume {
+
+struct BaselineModel {
+    // Of the region eroded by the edge margin (depths mix at the outline), the pixels where the
+    // baseline has a point.
+    int measuredPoints = 0;
+    // The rest only when there are at least min_points of them (the estimate refuses otherwise).
+    PlaneFrame plane;         // fitted to the measured points: the frame thickness is measured in
+    BaselineCloud cloud;      // those points on the plane, with the k-NN filter's verdicts
+    BaselineSamples samples;  // the trackers' samples and the baseline's own stereo tracks
+};
+
+// `roi`: the region (CV_8U); `points`: the baseline's points (CV_32FC3, NaN where none);
+// `capture`: its tracking images and disparity.
+BaselineModel buildBaselineModel(const cv::Mat& roi, const cv::Mat& points, const RectifiedCapture& capture,
+                                 const Parameters& parameters);
+
+// The texture trackers' options from the volume parameters.
+TextureTrackOptions textureTrackOptions(const Parameters& parameters);
+
+}  // namespace icewatch::volume
