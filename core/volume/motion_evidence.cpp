@@ -105,15 +105,20 @@ std::vector<cv::Vec6d> jackknife(const Evidence& used, const RigidTransform& fit
     std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
         return plane.toPlane(used.pairs[a].baseline).x < plane.toPlane(used.pairs[b].baseline).x;
     });
-    for (int g = 0; g < groups; ++g) {
-        const std::size_t lo = n * static_cast<std::size_t>(g) / static_cast<std::size_t>(groups);
-        const std::size_t hi = n * static_cast<std::size_t>(g + 1) / static_cast<std::size_t>(groups);
-        std::vector<PointPair> kept;
-        for (std::size_t k = 0; k < n; ++k)
-            if (k < lo || k >= hi) kept.push_back(used.pairs[order[k]]);
-        const RigidMotion m = fitRigidMotion(kept, fit, minPairs);
+    // The refits are independent, each with its own draws: side by side, in order afterwards.
+    std::vector<RigidMotion> refits(static_cast<std::size_t>(groups));
+    cv::parallel_for_(cv::Range(0, groups), [&](const cv::Range& range) {
+        for (int g = range.start; g < range.end; ++g) {
+            const std::size_t lo = n * static_cast<std::size_t>(g) / static_cast<std::size_t>(groups);
+            const std::size_t hi = n * static_cast<std::size_t>(g + 1) / static_cast<std::size_t>(groups);
+            std::vector<PointPair> kept;
+            for (std::size_t k = 0; k < n; ++k)
+                if (k < lo || k >= hi) kept.push_back(used.pairs[order[k]]);
+            refits[static_cast<std::size_t>(g)] = fitRigidMotion(kept, fit, minPairs);
+        }
+    });
+    for (const RigidMotion& m : refits)
         if (m.ok) deltas.push_back(perturbation(fitted, m.transform));
-    }
     return deltas;
 }
 

@@ -20,6 +20,39 @@ cv::Matx33d skew(const cv::Vec3d& v) { return {0, -v[2], v[1], v[2], 0, -v[0], -
 
 }  // namespace
 
+namespace {
+
+// What pairAgrees and pairChi2 work out of a pair's covariance under one set of options, once per
+// pair instead of once per pair and candidate: the fit asks it of every pair for each of its
+// hundreds of RANSAC draws, and the inverse was most of the registration's time. The same
+// expressions, so the same bits.
+struct WeightedPair {
+    cv::Matx33d covariance;
+    cv::Matx33d weight;  // the covariance's inverse
+    double riseSigma = 0;
+};
+
+std::vector<WeightedPair> weighted(const std::vector<PointPair>& pairs, const RigidMotionOptions& o) {
+    std::vector<WeightedPair> out(pairs.size());
+    const bool rises = cv::norm(o.riseAxis) != 0;
+    for (std::size_t i = 0; i < pairs.size(); ++i) {
+        out[i].covariance = pairCovariance(pairs[i], o);
+        out[i].weight = out[i].covariance.inv(cv::DECOMP_CHOLESKY);
+        if (rises) out[i].riseSigma = std::sqrt((o.riseAxis.t() * out[i].covariance * o.riseAxis)(0));
+    }
+    return out;
+}
+
+// pairAgrees with the pair's weights worked out.
+bool agrees(const PointPair& pair, const WeightedPair& w, const RigidTransform& transform, const RigidMotionOptions& o) {
+    const cv::Vec3d r = transform.apply(pair.current) - pair.baseline;
+    if ((r.t() * w.weight * r)(0) >= o.inlierChi2) return false;
+    if (cv::norm(o.riseAxis) == 0) return true;
+    return r.dot(o.riseAxis) <= o.riseSigmas * w.riseSigma;
+}
+
+}  // namespace
+
 RigidTransform fitRigid(const std::vector<cv::Vec3d>& from, const std::vector<cv::Vec3d>& to) {
     if (from.size() != to.size() || from.size() < 3) {
         throw InvalidInput("rigid fit: needs at least 3 point pairs");
@@ -70,27 +103,45 @@ RigidMotion fitRigidMotion(const std::vector<PointPair>& pairs, const RigidMotio
     const int n = static_cast<int>(pairs.size());
     if (n < std::max(3, minPairs)) return best;
     // RANSAC for the consensus.
+    const std::vector<WeightedPair> drawWeights = weighted(pairs, o);
+    // The draws first, in order (one random sequence whatever the thread count), then their
+    // consensus counted in fixed bands of draws, side by side; the first draw with the most pairs
+    // wins, as counted one after the other.
     std::mt19937 random(o.seed);
     std::uniform_int_distribution<int> pick(0, n - 1);
-    int bestCount = -1;
-    RigidTransform bestTransform;
+    std::vector<RigidTransform> candidates;
     for (int k = 0; k < o.ransacIterations; ++k) {
         const int a = pick(random), b = pick(random), c = pick(random);
         if (a == b || b == c || a == c) continue;
         const cv::Vec3d ab = pairs[b].baseline - pairs[a].baseline, ac = pairs[c].baseline - pairs[a].baseline;
         if (cv::norm(ab.cross(ac)) < 1e-3 * cv::norm(ab) * cv::norm(ac) + 1.0) continue;  // nearly collinear
-        RigidTransform candidate;
         try {
-            candidate = fitRigid({pairs[a].current, pairs[b].current, pairs[c].current},
-                                 {pairs[a].baseline, pairs[b].baseline, pairs[c].baseline});
+            candidates.push_back(fitRigid({pairs[a].current, pairs[b].current, pairs[c].current},
+                                          {pairs[a].baseline, pairs[b].baseline, pairs[c].baseline}));
         } catch (const InvalidInput&) {
             continue;
         }
-        int count = 0;
-        for (const PointPair& p : pairs) count += pairAgrees(p, candidate, o) ? 1 : 0;
-        if (count > bestCount) {
-            bestCount = count;
-            bestTransform = candidate;
+    }
+    std::vector<int> counts(candidates.size(), 0);
+    constexpr int kBands = 16;
+    cv::parallel_for_(cv::Range(0, kBands), [&](const cv::Range& bands) {
+        for (int band = bands.start; band < bands.end; ++band) {
+            const std::size_t lo = candidates.size() * band / kBands, hi = candidates.size() * (band + 1) / kBands;
+            for (std::size_t k = lo; k < hi; ++k) {
+                int count = 0;
+                for (std::size_t i = 0; i < pairs.size(); ++i) {
+                    count += agrees(pairs[i], drawWeights[i], candidates[k], o) ? 1 : 0;
+                }
+                counts[k] = count;
+            }
+        }
+    });
+    int bestCount = -1;
+    RigidTransform bestTransform;
+    for (std::size_t k = 0; k < candidates.size(); ++k) {
+        if (counts[k] > bestCount) {
+            bestCount = counts[k];
+            bestTransform = candidates[k];
         }
     }
     if (bestCount < std::max(3, minPairs)) return best;
@@ -98,12 +149,16 @@ RigidMotion fitRigidMotion(const std::vector<PointPair>& pairs, const RigidMotio
     // consensus (the upper part may be ice or mismatches) against that of a χ²₃ (1.213).
     {
         std::vector<double> d2;
-        for (const PointPair& p : pairs) d2.push_back(pairChi2(p, bestTransform, o));
+        for (std::size_t i = 0; i < pairs.size(); ++i) {
+            const cv::Vec3d r = bestTransform.apply(pairs[i].current) - pairs[i].baseline;
+            d2.push_back((r.t() * drawWeights[i].weight * r)(0));
+        }
         const auto quarter = d2.begin() + static_cast<std::ptrdiff_t>(d2.size() / 4);
         std::nth_element(d2.begin(), quarter, d2.end());
         o.covarianceScale = std::max(1.0, *quarter / 1.213);
     }
     // Gauss-Newton on the Mahalanobis distances, inliers re-selected at every step.
+    const std::vector<WeightedPair> weights = weighted(pairs, o);
     RigidTransform t = bestTransform;
     cv::Matx66d normal;
     std::vector<std::uint8_t> inlier(pairs.size(), 0);
@@ -117,9 +172,9 @@ RigidMotion fitRigidMotion(const std::vector<PointPair>& pairs, const RigidMotio
         for (std::size_t i = 0; i < pairs.size(); ++i) {
             const cv::Vec3d q = t.apply(pairs[i].current);
             const cv::Vec3d r = q - pairs[i].baseline;
-            const cv::Matx33d w = pairCovariance(pairs[i], o).inv(cv::DECOMP_CHOLESKY);
+            const cv::Matx33d& w = weights[i].weight;
             const double d2 = (r.t() * w * r)(0);
-            inlier[i] = pairAgrees(pairs[i], t, o) ? 1 : 0;
+            inlier[i] = agrees(pairs[i], weights[i], t, o) ? 1 : 0;
             if (!inlier[i]) continue;
             ++count;
             chi2 += d2;
