@@ -196,8 +196,11 @@ PatchTrack refine(const TrackingImage& from, const TrackingImage& to, cv::Point 
             gain = (sft - sf * st / n) / varF;
             offset = (st - gain * sf) / n;
         }
-        normal = cv::Matx<double, kUnknowns, kUnknowns>::zeros();
-        cv::Vec<double, kUnknowns> rhs = cv::Vec<double, kUnknowns>::all(0);
+        // Sums in local arrays the unrolled loops keep in registers: accumulated in the matrix
+        // itself, every term was a load and a store through memory (half the tracker's time).
+        // The same products in the same order, so the same sums.
+        double upper[kUnknowns][kUnknowns] = {};
+        double rhsSum[kUnknowns] = {};
         double sse = 0;
         for (int y = 1; y <= side; ++y)
             for (int x = 1; x <= side; ++x) {
@@ -211,15 +214,20 @@ PatchTrack refine(const TrackingImage& from, const TrackingImage& to, cv::Point 
                 // e(δ) = to(x + δ/2) - gain(x)·from(x - δ/2) - offset: both halves move with δ.
                 const double jx = 0.25 * ((at2(t, 1, 0) - at2(t, -1, 0)) + localGain * (at2(f, 1, 0) - at2(f, -1, 0)));
                 const double jy = 0.25 * ((at2(t, 0, 1) - at2(t, 0, -1)) + localGain * (at2(f, 0, 1) - at2(f, 0, -1)));
-                const cv::Vec<double, kUnknowns> row(jx, o.horizontalOnly ? 0.0 : jy, -a, -1.0, -a * u, -a * v);
+                const double row[kUnknowns] = {jx, o.horizontalOnly ? 0.0 : jy, -a, -1.0, -a * u, -a * v};
+#pragma GCC unroll 6
                 for (int i = 0; i < kUnknowns; ++i) {
-                    rhs[i] -= row[i] * e;
-                    for (int j = i; j < kUnknowns; ++j) normal(i, j) += row[i] * row[j];  // upper half
+                    rhsSum[i] -= row[i] * e;
+#pragma GCC unroll 6
+                    for (int j = i; j < kUnknowns; ++j) upper[i][j] += row[i] * row[j];
                 }
                 sse += e * e;
             }
-        for (int i = 1; i < kUnknowns; ++i)
-            for (int j = 0; j < i; ++j) normal(i, j) = normal(j, i);
+        cv::Vec<double, kUnknowns> rhs;
+        for (int i = 0; i < kUnknowns; ++i) {
+            rhs[i] = rhsSum[i];
+            for (int j = i; j < kUnknowns; ++j) normal(i, j) = normal(j, i) = upper[i][j];
+        }
         if (o.horizontalOnly) normal(1, 1) = 1;
         cv::Vec<double, kUnknowns> update;
         if (!cv::solve(normal, rhs, update, cv::DECOMP_CHOLESKY)) return track;
