@@ -9,6 +9,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "core/common/fixed_bands.hpp"
 #include "core/common/huge_pages.hpp"
 #include "core/stereo/matcher.hpp"
 #include "core/stereo/parameters.hpp"
@@ -23,7 +24,7 @@ inline constexpr int kCostScale = 512;
 inline constexpr int kDisparityAlign = 16;
 inline constexpr std::uint16_t kPadCost = 0xFFFF;
 // Work is split into this many stripes whatever the core count, so results never depend on it.
-inline constexpr int kStripes = 16;
+inline constexpr int kStripes = kFixedBands;
 
 // Resizes a scratch buffer to exactly n elements: a smaller size gives memory back, and the old
 // block is freed before the new one is taken (never both at once). Same size: nothing happens.
@@ -106,16 +107,12 @@ struct CrossArms {
     cv::Mat planes[3];              // scratch of computeCrossArms: the colour planes with a border
 };
 
-// Runs fn(begin, end) over kStripes fixed slices of [0, count), in parallel.
+// Runs fn(stripe, begin, end) over kStripes fixed slices of [0, count), in parallel.
 template <class F>
 void forEachStripe(int count, const F& fn) {
-    cv::parallel_for_(cv::Range(0, kStripes), [&](const cv::Range& r) {
-        for (int s = r.start; s < r.end; ++s) {
-            const int begin = static_cast<int>(static_cast<long long>(count) * s / kStripes);
-            const int end = static_cast<int>(static_cast<long long>(count) * (s + 1) / kStripes);
-            if (begin < end) fn(s, begin, end);
-        }
-    }, kStripes);
+    forEachFixedBand(static_cast<std::size_t>(count), [&](int stripe, std::size_t begin, std::size_t end) {
+        fn(stripe, static_cast<int>(begin), static_cast<int>(end));
+    });
 }
 
 // ---- impulse_filter.cpp -----------------------------------------------------------------------

@@ -14,14 +14,12 @@
 #include <limits>
 
 #include "core/common/error.hpp"
+#include "core/common/fixed_bands.hpp"
 
 namespace icewatch::volume {
 
 namespace {
 
-// Bands of points queried in parallel: fixed, so that nothing depends on the thread count (each
-// point's flag is its own anyway).
-constexpr int kBands = 16;
 // Points per bucket the grid aims at.
 constexpr double kPointsPerBucket = 2.0;
 
@@ -208,17 +206,14 @@ std::vector<std::uint8_t> knnKeepMask(const std::vector<cv::Point3d>& points, in
     if (points.size() <= static_cast<std::size_t>(k)) return keep;
     const BucketGrid grid(points);
     const std::size_t n = points.size();
-    cv::parallel_for_(cv::Range(0, kBands), [&](const cv::Range& bands) {
+    // Bands of points queried in parallel (each point's flag is its own anyway).
+    forEachFixedBand(n, [&](int, std::size_t begin, std::size_t end) {
         NearestK neighbours(k);
-        for (int band = bands.start; band < bands.end; ++band) {
-            const std::size_t begin = n * static_cast<std::size_t>(band) / kBands;
-            const std::size_t end = n * static_cast<std::size_t>(band + 1) / kBands;
-            for (std::size_t i = begin; i < end; ++i) {
-                grid.nearest(points[i], i, neighbours);
-                keep[i] = keepFlag(points, i, neighbours, theta);
-            }
+        for (std::size_t i = begin; i < end; ++i) {
+            grid.nearest(points[i], i, neighbours);
+            keep[i] = keepFlag(points, i, neighbours, theta);
         }
-    }, kBands);
+    });
     return keep;
 }
 

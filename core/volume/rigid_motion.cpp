@@ -9,18 +9,13 @@
 #include <opencv2/calib3d.hpp>
 
 #include "core/common/error.hpp"
+#include "core/common/fixed_bands.hpp"
 
 namespace icewatch::volume {
 
 namespace {
 
-
-
 cv::Matx33d skew(const cv::Vec3d& v) { return {0, -v[2], v[1], v[2], 0, -v[0], -v[1], v[0], 0}; }
-
-}  // namespace
-
-namespace {
 
 // What pairAgrees and pairChi2 work out of a pair's covariance under one set of options, once per
 // pair instead of once per pair and candidate: the fit asks it of every pair for each of its
@@ -32,21 +27,31 @@ struct WeightedPair {
     double riseSigma = 0;
 };
 
+WeightedPair weigh(const PointPair& pair, const RigidMotionOptions& o) {
+    WeightedPair w;
+    w.covariance = pairCovariance(pair, o);
+    w.weight = w.covariance.inv(cv::DECOMP_CHOLESKY);
+    if (cv::norm(o.riseAxis) != 0) w.riseSigma = std::sqrt((o.riseAxis.t() * w.covariance * o.riseAxis)(0));
+    return w;
+}
+
 std::vector<WeightedPair> weighted(const std::vector<PointPair>& pairs, const RigidMotionOptions& o) {
-    std::vector<WeightedPair> out(pairs.size());
-    const bool rises = cv::norm(o.riseAxis) != 0;
-    for (std::size_t i = 0; i < pairs.size(); ++i) {
-        out[i].covariance = pairCovariance(pairs[i], o);
-        out[i].weight = out[i].covariance.inv(cv::DECOMP_CHOLESKY);
-        if (rises) out[i].riseSigma = std::sqrt((o.riseAxis.t() * out[i].covariance * o.riseAxis)(0));
-    }
+    std::vector<WeightedPair> out;
+    out.reserve(pairs.size());
+    for (const PointPair& pair : pairs) out.push_back(weigh(pair, o));
     return out;
 }
 
-// pairAgrees with the pair's weights worked out.
-bool agrees(const PointPair& pair, const WeightedPair& w, const RigidTransform& transform, const RigidMotionOptions& o) {
-    const cv::Vec3d r = transform.apply(pair.current) - pair.baseline;
-    if ((r.t() * w.weight * r)(0) >= o.inlierChi2) return false;
+// Where the transform leaves the current point against the baseline's, and its squared
+// Mahalanobis length.
+cv::Vec3d residual(const PointPair& pair, const RigidTransform& transform) {
+    return transform.apply(pair.current) - pair.baseline;
+}
+double chi2(const cv::Vec3d& r, const WeightedPair& w) { return (r.t() * w.weight * r)(0); }
+
+// pairAgrees from the pair's residual and weights.
+bool agrees(const cv::Vec3d& r, const WeightedPair& w, const RigidMotionOptions& o) {
+    if (chi2(r, w) >= o.inlierChi2) return false;
     if (cv::norm(o.riseAxis) == 0) return true;
     return r.dot(o.riseAxis) <= o.riseSigmas * w.riseSigma;
 }
@@ -80,17 +85,11 @@ cv::Matx33d pairCovariance(const PointPair& pair, const RigidMotionOptions& o) {
 }
 
 double pairChi2(const PointPair& pair, const RigidTransform& transform, const RigidMotionOptions& o) {
-    const cv::Vec3d r = transform.apply(pair.current) - pair.baseline;
-    return (r.t() * pairCovariance(pair, o).inv(cv::DECOMP_CHOLESKY) * r)(0);
+    return chi2(residual(pair, transform), weigh(pair, o));
 }
 
 bool pairAgrees(const PointPair& pair, const RigidTransform& transform, const RigidMotionOptions& o) {
-    const cv::Vec3d r = transform.apply(pair.current) - pair.baseline;
-    const cv::Matx33d c = pairCovariance(pair, o);
-    if ((r.t() * c.inv(cv::DECOMP_CHOLESKY) * r)(0) >= o.inlierChi2) return false;
-    if (cv::norm(o.riseAxis) == 0) return true;
-    const double sigma = std::sqrt((o.riseAxis.t() * c * o.riseAxis)(0));
-    return r.dot(o.riseAxis) <= o.riseSigmas * sigma;
+    return agrees(residual(pair, transform), weigh(pair, o), o);
 }
 
 double propagate(const cv::Vec6d& gradient, const cv::Matx66d& covariance) {
@@ -123,17 +122,13 @@ RigidMotion fitRigidMotion(const std::vector<PointPair>& pairs, const RigidMotio
         }
     }
     std::vector<int> counts(candidates.size(), 0);
-    constexpr int kBands = 16;
-    cv::parallel_for_(cv::Range(0, kBands), [&](const cv::Range& bands) {
-        for (int band = bands.start; band < bands.end; ++band) {
-            const std::size_t lo = candidates.size() * band / kBands, hi = candidates.size() * (band + 1) / kBands;
-            for (std::size_t k = lo; k < hi; ++k) {
-                int count = 0;
-                for (std::size_t i = 0; i < pairs.size(); ++i) {
-                    count += agrees(pairs[i], drawWeights[i], candidates[k], o) ? 1 : 0;
-                }
-                counts[k] = count;
+    forEachFixedBand(candidates.size(), [&](int, std::size_t begin, std::size_t end) {
+        for (std::size_t k = begin; k < end; ++k) {
+            int count = 0;
+            for (std::size_t i = 0; i < pairs.size(); ++i) {
+                count += agrees(residual(pairs[i], candidates[k]), drawWeights[i], o) ? 1 : 0;
             }
+            counts[k] = count;
         }
     });
     int bestCount = -1;
@@ -149,10 +144,7 @@ RigidMotion fitRigidMotion(const std::vector<PointPair>& pairs, const RigidMotio
     // consensus (the upper part may be ice or mismatches) against that of a χ²₃ (1.213).
     {
         std::vector<double> d2;
-        for (std::size_t i = 0; i < pairs.size(); ++i) {
-            const cv::Vec3d r = bestTransform.apply(pairs[i].current) - pairs[i].baseline;
-            d2.push_back((r.t() * drawWeights[i].weight * r)(0));
-        }
+        for (std::size_t i = 0; i < pairs.size(); ++i) d2.push_back(chi2(residual(pairs[i], bestTransform), drawWeights[i]));
         const auto quarter = d2.begin() + static_cast<std::ptrdiff_t>(d2.size() / 4);
         std::nth_element(d2.begin(), quarter, d2.end());
         o.covarianceScale = std::max(1.0, *quarter / 1.213);
@@ -162,22 +154,21 @@ RigidMotion fitRigidMotion(const std::vector<PointPair>& pairs, const RigidMotio
     RigidTransform t = bestTransform;
     cv::Matx66d normal;
     std::vector<std::uint8_t> inlier(pairs.size(), 0);
-    double chi2 = 0;
+    double chi2Sum = 0;
     int count = 0;
     for (int iteration = 0; iteration <= o.refineIterations; ++iteration) {
         normal = cv::Matx66d::zeros();
         cv::Vec6d rhs(0, 0, 0, 0, 0, 0);
-        chi2 = 0;
+        chi2Sum = 0;
         count = 0;
         for (std::size_t i = 0; i < pairs.size(); ++i) {
             const cv::Vec3d q = t.apply(pairs[i].current);
             const cv::Vec3d r = q - pairs[i].baseline;
             const cv::Matx33d& w = weights[i].weight;
-            const double d2 = (r.t() * w * r)(0);
-            inlier[i] = agrees(pairs[i], weights[i], t, o) ? 1 : 0;
+            inlier[i] = agrees(r, weights[i], o) ? 1 : 0;
             if (!inlier[i]) continue;
             ++count;
-            chi2 += d2;
+            chi2Sum += chi2(r, weights[i]);
             // r(ω, δt) = r + ω × q + δt  ->  J = [-[q]×  I]
             const cv::Matx33d jr = -skew(q);
             cv::Matx<double, 3, 6> j;
@@ -205,7 +196,7 @@ RigidMotion fitRigidMotion(const std::vector<PointPair>& pairs, const RigidMotio
     best.inliers = count;
     best.covarianceScale = o.covarianceScale;
     const int dof = std::max(1, 3 * count - 6);
-    best.chi2PerDof = chi2 / dof;
+    best.chi2PerDof = chi2Sum / dof;
     best.covariance = normal.inv(cv::DECOMP_CHOLESKY) * (std::max(1.0, best.chi2PerDof) * o.correlationFactor);
     return best;
 }

@@ -7,6 +7,8 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "core/common/fixed_bands.hpp"
+
 namespace icewatch::volume {
 
 namespace {
@@ -37,15 +39,11 @@ bool appearanceChanged(const PatchTrack& t, const TextureTrackOptions& o) {
     return std::abs(t.offset) > std::max(o.offsetSigmas * t.offsetSigma, o.minOffsetShare * t.meanFrom);
 }
 
-// fn(i) for i in [0, n), split into fixed bands: the split, not the thread count, decides the work.
+// fn(i) for i in [0, n), in fixed bands.
 template <class F>
-void forEachBand(std::size_t n, const F& fn) {
-    constexpr int kBands = 16;
-    cv::parallel_for_(cv::Range(0, kBands), [&](const cv::Range& bands) {
-        for (int b = bands.start; b < bands.end; ++b) {
-            const std::size_t lo = n * b / kBands, hi = n * (b + 1) / kBands;
-            for (std::size_t i = lo; i < hi; ++i) fn(i);
-        }
+void forEachIndex(std::size_t n, const F& fn) {
+    forEachFixedBand(n, [&](int, std::size_t begin, std::size_t end) {
+        for (std::size_t i = begin; i < end; ++i) fn(i);
     });
 }
 
@@ -130,16 +128,10 @@ BaselineSamples baselineSamples(const RectifiedCapture& baseline, const cv::Mat&
             samples.onObject.push_back(in ? 1 : 0);
         }
     samples.disparity.resize(samples.pixels.size());
-    forEachBand(samples.pixels.size(), [&](std::size_t i) {
+    forEachIndex(samples.pixels.size(), [&](std::size_t i) {
         samples.disparity[i] = stereoDisparity(baseline, samples.pixels[i], o);
     });
     return samples;
-}
-
-std::vector<TextureTrack> trackTexture(const RectifiedCapture& baseline, const RectifiedCapture& current,
-                                       const cv::Mat& object, const cv::Matx44d& q, cv::Point2d prior,
-                                       const TextureTrackOptions& o) {
-    return trackTexture(baselineSamples(baseline, object, o), baseline, current, q, prior, o);
 }
 
 std::vector<TextureTrack> trackTexture(const BaselineSamples& samples, const RectifiedCapture& baseline,
@@ -157,7 +149,7 @@ std::vector<TextureTrack> trackTexture(const BaselineSamples& samples, const Rec
     for (std::size_t i = 0; i < samples.pixels.size(); ++i)
         if (reachable.contains(samples.pixels[i])) used.push_back(i);
     std::vector<TextureTrack> tracks(used.size());
-    forEachBand(used.size(), [&](std::size_t k) {
+    forEachIndex(used.size(), [&](std::size_t k) {
         const std::size_t i = used[k];
         tracks[k] = trackOne(baseline, current, samples.pixels[i], samples.onObject[i] != 0, samples.disparity[i], q,
                              prior, o);

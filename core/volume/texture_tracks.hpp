@@ -50,27 +50,21 @@ struct TextureTrack {
     double brightnessRatio = 1;  // of the left eye's temporal track
 };
 
-// Follows the baseline's texture into the current capture in both eyes, without the stereo
+// The baseline's texture followed into the current capture in both eyes, without the stereo
 // matcher's aggregation (which spreads ice over the clean surface around it):
 //   1. the baseline's own disparity at each sample, re-measured by a horizontal patch track
-//      from its left into its right eye, starting from the matcher's value;
+//      from its left into its right eye, starting from the matcher's value (baselineSamples);
 //   2. the left patch tracked from the baseline to the current left image, the right patch
 //      (at the refined disparity) from the baseline to the current right image;
 //   3. the current disparity = baseline disparity + left shift - right shift, and both points
 //      lifted to 3-D with Q; the covariance follows from the tracks' own covariances.
 // Samples lie on a regular grid inside `object` (eroded by the patch radius) and, as background,
-// outside it (dilated by the radius), where the baseline has a disparity and the current
-// capture's window holds the patch and its search. `prior` is the expected
-// image motion (e.g. from a global correlation). Work is split into fixed row bands, so the result
-// does not depend on the number of threads.
-std::vector<TextureTrack> trackTexture(const RectifiedCapture& baseline, const RectifiedCapture& current,
-                                       const cv::Mat& object, const cv::Matx44d& q, cv::Point2d prior,
-                                       const TextureTrackOptions& options = {});
+// outside it (dilated by the radius), where the baseline has a disparity. Work is split into
+// fixed bands of samples, so the result does not depend on the number of threads.
 
-// The samples and step 1 above, which depend on the baseline alone (a daemon works them out once
-// per baseline, BaselineModel): every grid sample on the object or its background where the
-// baseline has a disparity, and the disparity its stereo track re-measured there (NaN where the
-// track found none). Fixed bands of samples, as above.
+// The samples and step 1, which depend on the baseline alone (a daemon works them out once per
+// baseline, BaselineModel): every grid sample and the disparity its stereo track re-measured
+// there (NaN where the track found none).
 struct BaselineSamples {
     std::vector<cv::Point> pixels;
     std::vector<std::uint8_t> onObject;
@@ -78,8 +72,8 @@ struct BaselineSamples {
 };
 BaselineSamples baselineSamples(const RectifiedCapture& baseline, const cv::Mat& object,
                                 const TextureTrackOptions& options = {});
-// Steps 2 and 3 from those samples, for the ones whose patch and search the current capture's
-// window holds.
+// Steps 2 and 3 for the samples whose patch and search the current capture's window holds.
+// `prior` is the expected image motion (e.g. from a global correlation).
 std::vector<TextureTrack> trackTexture(const BaselineSamples& samples, const RectifiedCapture& baseline,
                                        const RectifiedCapture& current, const cv::Matx44d& q, cv::Point2d prior,
                                        const TextureTrackOptions& options = {});
