@@ -145,6 +145,8 @@ struct VolumeChain::Impl {
     Surface measureFrame(cv::Mat sideBySideFrame, const Surface* baseline);
     Surface measure(StereoPair raw, const Surface* baseline);
     MatchRegion followUpRegion(const Surface& baseline) const;
+    // What the estimate needs of a baseline alone, from its points.
+    std::shared_ptr<const BaselineModel> baselineModel(const Surface& baseline, const cv::Mat& points) const;
     // A baseline with a configured outline: its region and band from a coarse pass (match_region.hpp).
     MatchRegion coarseRegion(const StereoPair& raw);
 };
@@ -255,9 +257,11 @@ Surface VolumeChain::Impl::measure(StereoPair raw, const Surface* baseline) {
     timer.lap("prepare");
     // A later capture keeps the baseline's region: segmenting a cropped capture would find a
     // different one, and the estimate measures inside the baseline's anyway.
+    // A baseline's points: its segmentation and its model read them; nothing keeps them.
+    const cv::Mat points = baseline ? cv::Mat() : reproject(s.disparity, calibration.Q, window);
     if (!polygonRoi.empty()) s.roi = polygonRoi.clone();
     else if (baseline) s.roi = baseline->roi.clone();
-    else s.roi = segmentRoi(reproject(s.disparity, calibration.Q, window), parameters.segmentationBandMm);
+    else s.roi = segmentRoi(points, parameters.segmentationBandMm);
     s.quality = measureImageQuality(s.rectifiedLeft, s.roi);
     const int inside = cv::countNonZero(s.roi);
     s.validPercent = inside > 0 ? 100.0 * cv::countNonZero((s.disparity >= 0) & s.roi) / inside : 0.0;
@@ -282,8 +286,7 @@ Surface VolumeChain::Impl::measure(StereoPair raw, const Surface* baseline) {
         }
     }
     if (!baseline && cv::countNonZero(s.roi) > 0) {
-        s.model = std::make_shared<const BaselineModel>(buildBaselineModel(
-            s.roi, reproject(s.disparity, calibration.Q, window), {s.trackLeft, s.trackRight, s.disparity}, parameters));
+        s.model = baselineModel(s, points);
         timer.lap("model");
     }
     if (!baseline && parameters.matchRegion) {
@@ -316,6 +319,11 @@ MatchRegion VolumeChain::Impl::coarseRegion(const StereoPair& raw) {
     } catch (const InvalidInput&) {
         return {};  // nothing valid in the outline at the coarse scale: the whole frame, as without one
     }
+}
+
+std::shared_ptr<const BaselineModel> VolumeChain::Impl::baselineModel(const Surface& s, const cv::Mat& points) const {
+    return std::make_shared<const BaselineModel>(
+        buildBaselineModel(s.roi, points, {s.trackLeft, s.trackRight, s.disparity}, parameters));
 }
 
 MatchRegion VolumeChain::Impl::followUpRegion(const Surface& s) const {
@@ -353,11 +361,8 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     }
 
     // --- what the estimate needs of the baseline alone: kept with a baseline's surface ---
-    std::shared_ptr<const BaselineModel> model = baseline.model;
-    if (!model) {
-        model = std::make_shared<const BaselineModel>(
-            buildBaselineModel(baseline.roi, points(baseline), {baseline.trackLeft, baseline.trackRight, baseline.disparity}, p));
-    }
+    const std::shared_ptr<const BaselineModel> model =
+        baseline.model ? baseline.model : impl_->baselineModel(baseline, points(baseline));
     if (model->measuredPoints < p.minPoints) {
         return refused(result, "too few baseline points in the region: " + std::to_string(model->measuredPoints));
     }

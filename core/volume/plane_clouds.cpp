@@ -18,18 +18,6 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // Current points this far behind the baseline's lowest point are background, not the object.
 constexpr double kBehindMm = 10.0;
 
-// The smallest box holding every pixel of both lists (one pixel at the origin when both are empty).
-cv::Rect boundingBox(const std::vector<cv::Point>& a, const std::vector<cv::Point>& b) {
-    if (a.empty() && b.empty()) return {0, 0, 1, 1};
-    cv::Point lo(std::numeric_limits<int>::max(), std::numeric_limits<int>::max()), hi(-1, -1);
-    for (const auto* list : {&a, &b})
-        for (const cv::Point& q : *list) {
-            lo = {std::min(lo.x, q.x), std::min(lo.y, q.y)};
-            hi = {std::max(hi.x, q.x), std::max(hi.y, q.y)};
-        }
-    return {lo, hi + cv::Point(1, 1)};
-}
-
 }  // namespace
 
 BaselineCloud baselineCloud(const cv::Mat& baselinePoints, const cv::Mat& measured, const PlaneFrame& plane,
@@ -68,7 +56,9 @@ PlaneClouds planeClouds(const BaselineCloud& baseline, const cv::Mat& currentPoi
             currentAt.emplace_back(x, y);
         }
     PlaneClouds clouds;
-    clouds.box = boundingBox(baseline.pixels, currentAt);
+    // The smallest box holding every pixel of both (one pixel at the origin when both are empty).
+    clouds.box = cv::boundingRect(baseline.pixels) | cv::boundingRect(currentAt);
+    if (clouds.box.empty()) clouds.box = {0, 0, 1, 1};
     clouds.baseline = cv::Mat(clouds.box.size(), CV_64FC3, cv::Scalar::all(kNaN));
     clouds.current = cv::Mat(clouds.box.size(), CV_64FC3, cv::Scalar::all(kNaN));
     const cv::Point origin = clouds.box.tl();
@@ -81,14 +71,6 @@ PlaneClouds planeClouds(const BaselineCloud& baseline, const cv::Mat& currentPoi
             ++clouds.currentPoints;
         }
     return clouds;
-}
-
-PlaneClouds planeClouds(const cv::Mat& baselinePoints, const cv::Mat& measured, const cv::Mat& currentPoints,
-                        const cv::Mat& currentOutline, const PlaneFrame& plane, const RigidTransform& toBaseline,
-                        const Parameters& p) {
-    CV_Assert(baselinePoints.size() == currentPoints.size());
-    return planeClouds(baselineCloud(baselinePoints, measured, plane, p), currentPoints, currentOutline, plane,
-                       toBaseline, p);
 }
 
 cv::Mat outlineInCurrent(const cv::Mat& roi, const PlaneFrame& plane, const RigidTransform& toBaseline,

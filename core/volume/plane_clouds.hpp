@@ -42,10 +42,6 @@ BaselineCloud baselineCloud(const cv::Mat& baselinePoints, const cv::Mat& measur
 // max_thickness_mm is sky or a stray: neither is the object.
 PlaneClouds planeClouds(const BaselineCloud& baseline, const cv::Mat& currentPoints, const cv::Mat& currentOutline,
                         const PlaneFrame& plane, const RigidTransform& toBaseline, const Parameters& parameters);
-// Both halves at once.
-PlaneClouds planeClouds(const cv::Mat& baselinePoints, const cv::Mat& measured, const cv::Mat& currentPoints,
-                        const cv::Mat& currentOutline, const PlaneFrame& plane, const RigidTransform& toBaseline,
-                        const Parameters& parameters);
 
 // The baseline's outline as the object stands in the current capture: every outline pixel is put
 // on the baseline's plane, moved back by the registration and projected; then eroded by the edge

@@ -37,7 +37,8 @@ TEST(PlaneClouds, MapsCoverThePointsBoxAndHoldEachPixelsPoint) {
     const PlaneFrame plane = facingPlane();
     RigidTransform shift;
     shift.translation = {0, 0, -0.5};  // the current capture moved 0.5 mm towards the camera
-    const PlaneClouds clouds = planeClouds(baseline, measured, current, outline, plane, shift, Parameters{});
+    const PlaneClouds clouds =
+        planeClouds(baselineCloud(baseline, measured, plane, Parameters{}), current, outline, plane, shift, Parameters{});
 
     EXPECT_EQ(clouds.box, baselineRect | currentRect);
     ASSERT_EQ(clouds.baseline.size(), clouds.box.size());
@@ -65,7 +66,8 @@ TEST(PlaneClouds, NoPointsGiveOneEmptyPixel) {
     const cv::Mat none(20, 30, CV_32FC3, cv::Scalar::all(kNaN));
     const cv::Mat all(none.size(), CV_8U, cv::Scalar(255));
     const PlaneFrame plane = facingPlane();
-    const PlaneClouds clouds = planeClouds(none, all, none, all, plane, RigidTransform{}, Parameters{});
+    const PlaneClouds clouds =
+        planeClouds(baselineCloud(none, all, plane, Parameters{}), none, all, plane, RigidTransform{}, Parameters{});
     EXPECT_EQ(clouds.box.area(), 1);
     EXPECT_EQ(clouds.currentPoints, 0);
     EXPECT_TRUE(std::isnan(clouds.current.at<cv::Vec3d>(0, 0)[2]));
