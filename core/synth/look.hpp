@@ -18,6 +18,10 @@ struct Look {
     double iceWhiteness = 0.88;        // albedo of ice thick enough to hide what is under it
     double iceTranslucencyMm = 1.5;    // thickness of ice that hides 63 % of what is under it
     double tableGrainDeg = 0.0;        // direction of the tabletop's grain in the object plane
+    // A glaze so clear that the composite's texture keeps its contrast under it, brightened by a
+    // gain as a change of light would brighten it (the layer reflects more): only its background
+    // tells it from light. Otherwise the glaze veils the texture (whiter, of lower contrast).
+    bool glazeKeepsTexture = false;
 };
 
 // With fixedLight the light keeps its default (a lab rig under fixed lamps); the rest still varies.

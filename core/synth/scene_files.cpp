@@ -61,6 +61,7 @@ nlohmann::json truthJson(const SyntheticScene& scene, const SceneSpec& spec) {
               {"composite_feature_mm", look.compositeFeatureMm},
               {"ice_whiteness", look.iceWhiteness},
               {"ice_translucency_mm", look.iceTranslucencyMm},
+              {"glaze_keeps_texture", look.glazeKeepsTexture},
               {"table_grain_deg", look.tableGrainDeg}}}};
 }
 

@@ -39,6 +39,10 @@ float icedComposite(const Shading& s, float albedo, const cv::Vec4f& a) {
             return albedo + (ice - albedo) * opacity;
         }
         case IceKind::GlazeAll: {
+            if (s.look.glazeKeepsTexture) {
+                // So clear that the texture keeps its contrast, brightened as light would brighten it.
+                return albedo * (1.0f + 0.15f * (1.0f - std::exp(-thickness / translucencyMm)));
+            }
             // Clear glaze: the composite's texture shows through, whitened and of lower contrast
             // the thicker the layer, with a faint texture of the glaze's own surface.
             const float veil = 0.1f + 0.35f * (1.0f - std::exp(-thickness / (2.0f * translucencyMm)));

@@ -27,6 +27,7 @@
 
 #include "core/common/error.hpp"
 #include "core/stereo/matcher.hpp"
+#include "core/volume/background_light.hpp"
 #include "core/volume/height_grid.hpp"
 #include "core/volume/ice_mask.hpp"
 #include "core/volume/matcher_push.hpp"
@@ -381,8 +382,10 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
                             ? *current.shiftFromBaselinePx
                             : globalImageShift(baseline.leftGrey, current.leftGrey, baseline.roi);
     if (cv::norm(prior) > p.maxRegistrationMm * impl_->focalPx / depthMm) prior = {0, 0};
-    const std::vector<TextureTrack> tracks =
-        trackTexture(model->samples, before, after, cv::Matx44d(impl_->calibration.Q), prior, trackOptions);
+    const std::optional<double> lightRatio = backgroundLightRatio(
+        baseline.leftGrey, current.leftGrey, baseline.roi, baseline.matchedWindow, current.matchedWindow);
+    const std::vector<TextureTrack> tracks = trackTexture(model->samples, before, after,
+                                                          cv::Matx44d(impl_->calibration.Q), prior, lightRatio, trackOptions);
     timer.lap("track");
     MotionEvidenceOptions evidence;
     evidence.minPairs = p.minEvidenceSamples;
@@ -400,7 +403,11 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     result.registrationSource = motion.source;
     result.supportSpanPercent = motion.supportSpanPercent;
     timer.lap("register");
-    if (!motion.ok) return refused(result, current.regionHint.empty() ? motion.reason : current.regionHint);
+    if (!motion.ok) {
+        if (!current.regionHint.empty()) return refused(result, current.regionHint);
+        const std::string light = objectLightNote(tracks, lightRatio, trackOptions.maxBrightnessChange);
+        return refused(result, light.empty() ? motion.reason : motion.reason + "; " + light);
+    }
     const RigidTransform& transform = motion.transform;
     result.registrationMm = cv::norm(transform.apply(plane.origin) - plane.origin);
     result.registrationDeg = std::acos(std::clamp((cv::trace(transform.rotation) - 1.0) / 2.0, -1.0, 1.0)) * 180.0 / kPi;

@@ -136,7 +136,7 @@ BaselineSamples baselineSamples(const RectifiedCapture& baseline, const cv::Mat&
 
 std::vector<TextureTrack> trackTexture(const BaselineSamples& samples, const RectifiedCapture& baseline,
                                        const RectifiedCapture& current, const cv::Matx44d& q, cv::Point2d prior,
-                                       const TextureTrackOptions& o) {
+                                       std::optional<double> lightRatio, const TextureTrackOptions& o) {
     const int r = o.patch.radiusPx;
     // Where a patch, moved by the prior and searched around it, lies inside the current window.
     const int reach = r + o.temporalSearchPx + 1;
@@ -155,10 +155,15 @@ std::vector<TextureTrack> trackTexture(const BaselineSamples& samples, const Rec
                              prior, o);
     });
     // The scene's own change of brightness (light), and the patches that changed otherwise.
-    std::vector<double> ratios;
-    for (const TextureTrack& t : tracks)
-        if (t.state != TextureTrack::State::Untracked) ratios.push_back(t.brightnessRatio);
-    const double sceneRatio = medianOf(ratios);
+    double sceneRatio = 1.0;
+    if (lightRatio) {
+        sceneRatio = *lightRatio;
+    } else {
+        std::vector<double> ratios;
+        for (const TextureTrack& t : tracks)
+            if (t.state != TextureTrack::State::Untracked) ratios.push_back(t.brightnessRatio);
+        sceneRatio = medianOf(ratios);
+    }
     for (TextureTrack& t : tracks) {
         if (t.state == TextureTrack::State::Unchanged && std::abs(t.brightnessRatio / sceneRatio - 1.0) > o.maxBrightnessChange) {
             t.state = TextureTrack::State::Changed;

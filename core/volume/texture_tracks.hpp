@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -24,7 +25,7 @@ struct TextureTrackOptions {
     double offsetSigmas = 4.0;      // an offset beyond this many of its σ, and ...
     double minOffsetShare = 0.04;   // ... beyond this share of the patch's mean, is a change of appearance
     // A patch whose brightness changed by more than this share against the scene's own change
-    // (the median over every sample found: a change of light scales the whole scene alike)
+    // (the background's, or the median over every sample found: light scales the scene alike)
     // changed its look.
     double maxBrightnessChange = 0.04;
 };
@@ -73,9 +74,13 @@ struct BaselineSamples {
 BaselineSamples baselineSamples(const RectifiedCapture& baseline, const cv::Mat& object,
                                 const TextureTrackOptions& options = {});
 // Steps 2 and 3 for the samples whose patch and search the current capture's window holds.
-// `prior` is the expected image motion (e.g. from a global correlation).
+// `prior` is the expected image motion (e.g. from a global correlation). `lightRatio`: the scene's
+// change of light (background_light.hpp); a patch whose brightness changed otherwise changed its
+// look. Without it, the median over every sample found stands in (ice over the whole object then
+// passes for light).
 std::vector<TextureTrack> trackTexture(const BaselineSamples& samples, const RectifiedCapture& baseline,
                                        const RectifiedCapture& current, const cv::Matx44d& q, cv::Point2d prior,
+                                       std::optional<double> lightRatio = std::nullopt,
                                        const TextureTrackOptions& options = {});
 
 // The image motion of the scene between two left images, by phase correlation inside `mask`

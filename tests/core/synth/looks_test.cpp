@@ -47,6 +47,30 @@ cv::Mat detail(const cv::Mat& grey) {
     return grey - blurred;
 }
 
+// How the blade's texture changed between the captures, inside it (eroded off its outline).
+struct TextureChange {
+    double correlation = 0;  // of the fine texture
+    double detailBefore = 0, detailAfter = 0;  // its standard deviation
+    double meanBefore = 0, meanAfter = 0;      // grey level
+};
+
+TextureChange textureChange(const SyntheticScene& scene) {
+    const cv::Mat object = scene.afterDisparity > 0;
+    const cv::Mat before = leftGrey(scene.before), after = leftGrey(scene.after);
+    cv::Mat inside;
+    cv::erode(object & (scene.beforeDisparity > 0), inside, cv::Mat(), {-1, -1}, 3);
+    TextureChange c;
+    c.correlation = correlation(detail(before), detail(after), inside);
+    cv::Scalar mean, sdBefore, sdAfter;
+    cv::meanStdDev(detail(before), mean, sdBefore, inside);
+    cv::meanStdDev(detail(after), mean, sdAfter, inside);
+    c.detailBefore = sdBefore[0];
+    c.detailAfter = sdAfter[0];
+    c.meanBefore = cv::mean(before, inside)[0];
+    c.meanAfter = cv::mean(after, inside)[0];
+    return c;
+}
+
 TEST(SynthLooks, EveryIceKindCarriesExactlyTheRequestedVolume) {
     for (const IceKind ice : {IceKind::LeadingEdge, IceKind::GlazeAll, IceKind::Patches}) {
         for (const double volume : {97609.0, 257391.0}) {
@@ -71,15 +95,30 @@ TEST(SynthLooks, GlazeCoversTheWholeBladeThinlyAndLetsItsTextureThrough) {
     EXPECT_GT(minIce, 0.2);
     EXPECT_LT(maxIce, 8.0);  // thin: the volume is spread over the whole blade
     // The composite's texture shows through, whitened and of lower contrast.
+    const TextureChange c = textureChange(scene);
+    EXPECT_GT(c.correlation, 0.6);
+    EXPECT_LT(c.detailAfter, c.detailBefore);
+    EXPECT_GT(c.meanAfter, c.meanBefore + 5.0);
+}
+
+TEST(SynthLooks, AClearerGlazeKeepsTheTexturesContrastAndBrightensItAsLightWould) {
+    SceneSpec spec = smallBlade(IceKind::GlazeAll, MotionKind::None);
+    spec.seed = 2;
+    ASSERT_TRUE(drawLook(spec.seed).glazeKeepsTexture);
+    ASSERT_FALSE(drawLook(1).glazeKeepsTexture);  // the veiling glaze of the test above
+    const SyntheticScene scene = renderScene(spec);
+    // A gain: the texture's contrast grows with the brightness, the sky's does not change.
+    const TextureChange c = textureChange(scene);
+    EXPECT_GT(c.correlation, 0.6);
+    EXPECT_GT(c.detailAfter, c.detailBefore);
+    EXPECT_GT(c.meanAfter / c.meanBefore, 1.03);
+    EXPECT_LT(c.meanAfter / c.meanBefore, 1.16);
     const cv::Mat before = leftGrey(scene.before), after = leftGrey(scene.after);
-    cv::Mat inside;
-    cv::erode(object & (scene.beforeDisparity > 0), inside, cv::Mat(), {-1, -1}, 3);
-    EXPECT_GT(correlation(detail(before), detail(after), inside), 0.6);
-    cv::Scalar meanBefore, sdBefore, meanAfter, sdAfter;
-    cv::meanStdDev(detail(before), meanBefore, sdBefore, inside);
-    cv::meanStdDev(detail(after), meanAfter, sdAfter, inside);
-    EXPECT_LT(sdAfter[0], sdBefore[0]);
-    EXPECT_GT(cv::mean(after, inside)[0], cv::mean(before, inside)[0] + 5.0);
+    const cv::Mat object = scene.afterDisparity > 0;
+    cv::Mat sky;
+    cv::dilate(object | (scene.beforeDisparity > 0), sky, cv::Mat(), {-1, -1}, 6);
+    sky = ~sky;
+    EXPECT_NEAR(cv::mean(after, sky)[0], cv::mean(before, sky)[0], 0.5);
 }
 
 TEST(SynthLooks, RimePatchesAreOpaqueWhiteAndLeaveMostOfTheBladeClean) {
