@@ -418,8 +418,15 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     }
     const cv::Mat possibleIce = iceMask(baseline.roi, tracks, motion.clean, p.trackStepPx, p.iceMaskGrowPx);
     result.iceMaskPercent = 100.0 * cv::countNonZero(possibleIce) / std::max(1, cv::countNonZero(baseline.roi));
-    const MatcherPush push = matcherPush(tracks, motion.clean, baseline.disparity, current.disparity, possibleIce,
-                                         evidence.fit.correlationFactor);
+    // The matcher against the tracks on the clean texture beside the ice, and on every texture
+    // found again (under a clear layer too, where no clean texture is left): the larger counts.
+    std::vector<std::uint8_t> found(tracks.size(), 0);
+    for (std::size_t i = 0; i < tracks.size(); ++i) found[i] = tracks[i].state != TextureTrack::State::Untracked;
+    const MatcherPush onClean = matcherPush(tracks, motion.clean, baseline.disparity, current.disparity, possibleIce,
+                                            evidence.fit.correlationFactor);
+    const MatcherPush onFound = matcherPush(tracks, found, baseline.disparity, current.disparity, possibleIce,
+                                            evidence.fit.correlationFactor);
+    const MatcherPush& push = std::abs(onFound.meanPx) > std::abs(onClean.meanPx) ? onFound : onClean;
     result.matcherPushPx = push.meanPx;
     result.matcherPushSigmaPx = push.sigmaPx;
 

@@ -21,16 +21,16 @@ std::optional<double> bilinear(const cv::Mat& disparity, cv::Point2d at) {
 
 }  // namespace
 
-MatcherPush matcherPush(const std::vector<TextureTrack>& tracks, const std::vector<std::uint8_t>& clean,
+MatcherPush matcherPush(const std::vector<TextureTrack>& tracks, const std::vector<std::uint8_t>& use,
                         const cv::Mat& baselineDisparity, const cv::Mat& currentDisparity,
                         const cv::Mat& possibleIce, double correlationFactor) {
-    CV_Assert(clean.size() == tracks.size() && baselineDisparity.type() == CV_32FC1 &&
+    CV_Assert(use.size() == tracks.size() && baselineDisparity.type() == CV_32FC1 &&
               currentDisparity.type() == CV_32FC1 && possibleIce.type() == CV_8UC1);
     double sum = 0, sumSquares = 0;
     int n = 0;
     for (std::size_t i = 0; i < tracks.size(); ++i) {
         const TextureTrack& t = tracks[i];
-        if (!clean[i] || !t.onObject || !possibleIce.at<std::uint8_t>(t.pixel)) continue;
+        if (!use[i] || !t.onObject || !possibleIce.at<std::uint8_t>(t.pixel)) continue;
         const float before = baselineDisparity.at<float>(t.pixel);
         const std::optional<double> after = bilinear(currentDisparity, t.currentPixel);
         if (!(before > 0) || !after) continue;

@@ -22,12 +22,13 @@ struct MatcherPush {
     int samples = 0;
 };
 
-// Over the tracks that are clean evidence (`clean`, from the registration) on the object and lie
-// inside `possibleIce` (CV_8U, baseline left pixels), where the volume is integrated. Both
-// disparity maps are the matcher's (CV_32F, frame-sized, negative where none); the current one is
-// read at the track's current pixel, bilinearly where its four neighbours are valid.
-// `correlationFactor`: how many samples share one independent error (overlapping patches).
-MatcherPush matcherPush(const std::vector<TextureTrack>& tracks, const std::vector<std::uint8_t>& clean,
+// Over the tracks in `use` (the clean evidence of the registration, or every track found again in
+// both eyes) on the object that lie inside `possibleIce` (CV_8U, baseline left pixels), where the
+// volume is integrated. Both disparity maps are the matcher's (CV_32F, frame-sized, negative where
+// none); the current one is read at the track's current pixel, bilinearly where its four
+// neighbours are valid. `correlationFactor`: how many samples share one independent error
+// (overlapping patches).
+MatcherPush matcherPush(const std::vector<TextureTrack>& tracks, const std::vector<std::uint8_t>& use,
                         const cv::Mat& baselineDisparity, const cv::Mat& currentDisparity,
                         const cv::Mat& possibleIce, double correlationFactor);
 

@@ -12,7 +12,7 @@ struct UncertaintyBudget {
     double noiseMm3 = 0;          // per-point depth noise over the independent samples
     double registrationMm3 = 0;   // the registration's own uncertainty, propagated
     double trackingMm3 = 0;       // a bias of the texture trackers common to every sample
-    double pushMm3 = 0;           // the matcher's change departing from the tracks' on clean texture
+    double pushMm3 = 0;           // the matcher's change departing from the tracks' (matcher_push.hpp)
     double biasMm3 = 0;           // systematic sub-pixel disparity bias
     double edgeMm3 = 0;           // where the ice's edges are
     double scaleMm3 = 0;          // the depth scale and the matcher's response on ice, relative to the volume
@@ -35,8 +35,9 @@ struct ViewGeometry {
 //   tracking      a disparity-change bias common to every texture track (track_bias_px): the
 //                 registration's covariance and jackknife see the tracks' scatter, not a bias they
 //                 share, and a shared bias moves the whole registered surface along the view;
-//   push          the matcher's change of disparity against the tracks' on the clean texture
-//                 where the volume is integrated (matcher_push.hpp): its mean over the ice area
+//   push          the matcher's change of disparity against the tracks' where the volume is
+//                 integrated (matcher_push.hpp), on the clean texture or on every texture found
+//                 again, whichever departs more: its mean over the ice area
 //                 (the scatter of single samples is the noise the other terms carry);
 //   bias          a systematic sub-pixel disparity bias (subpixel_bias_px) over the ice area;
 //   edge          a shift of σ_e of every edge of height H and length L moves σ_e·H·L, i.e.
