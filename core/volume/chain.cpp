@@ -382,6 +382,7 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
                             ? *current.shiftFromBaselinePx
                             : globalImageShift(baseline.leftGrey, current.leftGrey, baseline.roi);
     if (cv::norm(prior) > p.maxRegistrationMm * impl_->focalPx / depthMm) prior = {0, 0};
+    prior = confirmedShift(baseline.leftGrey, current.leftGrey, baseline.roi, prior);
     const std::optional<double> lightRatio = backgroundLightRatio(
         baseline.leftGrey, current.leftGrey, baseline.roi, baseline.matchedWindow, current.matchedWindow);
     const std::vector<TextureTrack> tracks = trackTexture(model->samples, before, after,

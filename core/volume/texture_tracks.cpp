@@ -8,6 +8,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/common/fixed_bands.hpp"
+#include "core/volume/match_region.hpp"
 
 namespace icewatch::volume {
 
@@ -180,6 +181,29 @@ cv::Point2d globalImageShift(const cv::Mat& baselineLeft, const cv::Mat& current
     currentLeft(box).convertTo(b, CV_32F);
     cv::createHanningWindow(window, box.size(), CV_32F);
     return cv::phaseCorrelate(a, b, window);
+}
+
+cv::Point2d confirmedShift(const cv::Mat& baselineLeft, const cv::Mat& currentLeft, const cv::Mat& mask,
+                           cv::Point2d shift) {
+    const cv::Rect box = cv::boundingRect(mask);
+    if (box.empty()) return {0, 0};
+    const int reach = static_cast<int>(std::ceil(std::hypot(shift.x, shift.y))) + 2;
+    const cv::Rect grown = (box + cv::Size(2 * reach, 2 * reach) - cv::Point(reach, reach)) &
+                           cv::Rect(cv::Point(0, 0), mask.size());
+    // The texture alone (the image less its blur): a long object's shading looks alike shifted
+    // along it.
+    auto texture = [](const cv::Mat& image) {
+        cv::Mat grey, blurred;
+        image.convertTo(grey, CV_32F);
+        cv::GaussianBlur(grey, blurred, cv::Size(), 3.0);
+        return cv::Mat(grey - blurred);
+    };
+    const cv::Mat from = texture(baselineLeft(grown)), to = texture(currentLeft(grown));
+    cv::Mat movedBack;
+    cv::warpAffine(to, movedBack, cv::Matx23d(1, 0, shift.x, 0, 1, shift.y), to.size(),
+                   cv::INTER_LINEAR | cv::WARP_INVERSE_MAP, cv::BORDER_REFLECT);
+    const cv::Mat inside = mask(grown);
+    return maskedCorrelation(from, movedBack, inside) > maskedCorrelation(from, to, inside) ? shift : cv::Point2d(0, 0);
 }
 
 }  // namespace icewatch::volume

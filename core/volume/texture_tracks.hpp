@@ -84,7 +84,14 @@ std::vector<TextureTrack> trackTexture(const BaselineSamples& samples, const Rec
                                        const TextureTrackOptions& options = {});
 
 // The image motion of the scene between two left images, by phase correlation inside `mask`
-// (CV_8U, the region that matters); used as the trackers' starting point.
+// (CV_8U, the region that matters).
 cv::Point2d globalImageShift(const cv::Mat& baselineLeft, const cv::Mat& currentLeft, const cv::Mat& mask);
+
+// `shift` when the texture inside `mask` looks more like the baseline's moved back by it than in
+// place, zero otherwise: the trackers' starting point. A pattern fixed to the image (a JPEG's 8x8
+// blocks over a faint texture) or the rest of the region's box can win the phase correlation while
+// the object moved a pixel or two, and a start 25 px off leaves every patch outside its search.
+cv::Point2d confirmedShift(const cv::Mat& baselineLeft, const cv::Mat& currentLeft, const cv::Mat& mask,
+                           cv::Point2d shift);
 
 }  // namespace icewatch::volume
