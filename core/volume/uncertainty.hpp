@@ -37,7 +37,8 @@ struct ViewGeometry {
 //                 share, and a shared bias moves the whole registered surface along the view;
 //   push          the matcher's change of disparity against the tracks' where the volume is
 //                 integrated (matcher_push.hpp), on the clean texture or on every texture found
-//                 again, whichever departs more: its mean over the ice area
+//                 again, whichever departs more: its mean over the ice area, with the mean's
+//                 own standard error in quadrature
 //                 (the scatter of single samples is the noise the other terms carry);
 //   bias          a systematic sub-pixel disparity bias (subpixel_bias_px) over the ice area;
 //   edge          a shift of σ_e of every edge of height H and length L moves σ_e·H·L, i.e.
