@@ -6,7 +6,11 @@
 //                 speed) and leaving the root clean;
 //   glaze-all     a thin layer over the whole visible surface, trailing edge, root and tip
 //                 included, somewhat thicker towards the leading edge and the tip;
-//   patches       a few soft-edged, rough rime patches anywhere on the blade, placed by the seed.
+//   patches       a few soft-edged, rough rime patches anywhere on the blade, placed by the seed;
+//   bead          a narrow bead right on the leading edge (a few mm to a few cm across, by the seed),
+//                 which is the blade's outline as the camera sees it: it rises over the suction side
+//                 and stands out in front of the clean outline (beadFront), leaving the root clean;
+//   bead-glaze    the same bead over a thin glaze across the whole visible surface.
 #include "core/synth/blade.hpp"
 
 #include <algorithm>
@@ -37,6 +41,28 @@ struct Patch {
     double centreXMm, centreChord, radiusXMm, radiusChord, height;
 };
 
+// The bead's size: how far it reaches over the suction side and in front of the leading edge (mm,
+// the same along the span, so it is narrow against the root's chord and broad at the tip).
+struct Bead {
+    double overMm, frontMm;
+};
+
+Bead drawBead(std::uint32_t seed) {
+    std::mt19937 random(seed ^ 0x42656164u);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    const double overMm = 3.0 * std::pow(10.0, unit(random));  // 3-30 mm, as often narrow as broad
+    return {overMm, overMm * (0.4 + 0.6 * unit(random))};
+}
+
+// Across the bead (0 on the leading edge, 1 at its reach): rounded, meeting the surface at a slant.
+double beadProfile(double t) { return t < 1.0 ? 1.0 - t * t : 0.0; }
+
+// Along the span: from nothing at the root to the most towards the tip, uneven as real accretion.
+double beadAlongSpan(double spanPos, double x, double y, std::uint32_t seed) {
+    return smoothstep(0.15, 0.4, spanPos) * (0.8 + 0.4 * spanPos) *
+           (1.0 + 0.15 * fractalNoise(x, y, 40.0, 2, seed + 700));
+}
+
 std::vector<Patch> drawPatches(std::uint32_t seed) {
     std::mt19937 random(seed ^ 0x50617463u);
     auto uniform = [&random](double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(random); };
@@ -52,12 +78,20 @@ std::vector<Patch> drawPatches(std::uint32_t seed) {
 // (0 leading edge .. 1 trailing edge), planform point (x, y).
 class IceShape {
 public:
-    IceShape(IceKind kind, std::uint32_t seed) : kind_(kind), seed_(seed) {
+    IceShape(IceKind kind, std::uint32_t seed) : kind_(kind), seed_(seed), bead_(drawBead(seed)) {
         if (kind == IceKind::Patches) patches_ = drawPatches(seed);
     }
 
-    double operator()(double spanPos, double c, double x, double y) const {
+    // chordMm: the local chord, so that the bead keeps its width in millimetres.
+    double operator()(double spanPos, double c, double chordMm, double x, double y) const {
         switch (kind_) {
+            case IceKind::Bead:
+            case IceKind::BeadGlaze: {
+                const double bead = beadAlongSpan(spanPos, x, -kPitchAxisChord * chordMm, seed_) *
+                                    beadProfile(c * chordMm / bead_.overMm);
+                const double glaze = kind_ == IceKind::BeadGlaze ? 0.06 * (0.7 + 0.6 * spanPos) : 0.0;
+                return bead + glaze;
+            }
             case IceKind::LeadingEdge: {
                 const double spanWeight = smoothstep(0.2, 0.5, spanPos) * (0.8 + 0.4 * spanPos);
                 const double shape =
@@ -83,11 +117,16 @@ public:
         return 0.0;
     }
 
+    const Bead& bead() const { return bead_; }
+
 private:
     IceKind kind_;
     std::uint32_t seed_;
+    Bead bead_;
     std::vector<Patch> patches_;
 };
+
+double chordAt(double spanPos) { return kRootChordMm + (kTipChordMm - kRootChordMm) * spanPos; }
 
 }  // namespace
 
@@ -103,21 +142,43 @@ GridSurface bladeSurface(IceKind ice, std::uint32_t seed) {
         for (int i = 0; i <= s.nu; ++i) {
             const double spanPos = static_cast<double>(i) / s.nu;
             const double x = (spanPos - 0.5) * kBladeLengthMm;
-            const double chord = kRootChordMm + (kTipChordMm - kRootChordMm) * spanPos;
+            const double chord = chordAt(spanPos);
             const double y = (c - kPitchAxisChord) * chord;
             const double h = 5.0 * kAirfoilThickness * chord *
                              (0.2969 * std::sqrt(c) - 0.1260 * c - 0.3516 * c * c + 0.2843 * c * c * c -
                               0.1036 * c * c * c * c);
             s.local[s.index(i, j)] = {x, y, std::max(0.0, h)};
-            s.ice[s.index(i, j)] = static_cast<float>(iceShape(spanPos, c, x, y));
+            s.ice[s.index(i, j)] = static_cast<float>(iceShape(spanPos, c, chord, x, y));
         }
     }
     return s;
 }
 
-Mesh bladeMesh(const GridSurface& s, double iceScale, const Pose& pose, const Look& look) {
+GridSurface beadFront(IceKind ice, std::uint32_t seed) {
+    GridSurface s;
+    if (ice != IceKind::Bead && ice != IceKind::BeadGlaze) return s;
+    const Bead bead = drawBead(seed);
+    s.nu = 410;  // the blade's span stations, so that the front meets the blade along its edge
+    s.nv = 16;
+    s.local.resize(static_cast<std::size_t>(s.nu + 1) * (s.nv + 1));
+    s.ice.resize(s.local.size());
+    for (int j = 0; j <= s.nv; ++j) {
+        const double t = static_cast<double>(j) / s.nv;  // 0 on the leading edge .. 1 at the bead's front
+        for (int i = 0; i <= s.nu; ++i) {
+            const double spanPos = static_cast<double>(i) / s.nu;
+            const double x = (spanPos - 0.5) * kBladeLengthMm;
+            const double leadingEdgeY = -kPitchAxisChord * chordAt(spanPos);
+            // On the chord plane, where the leading edge is: the bead's footing in front of it.
+            s.local[s.index(i, j)] = {x, leadingEdgeY - t * bead.frontMm, 0.0};
+            s.ice[s.index(i, j)] = static_cast<float>(beadAlongSpan(spanPos, x, leadingEdgeY, seed) * beadProfile(t));
+        }
+    }
+    return s;
+}
+
+Mesh bladeMesh(const GridSurface& s, double iceScale, const Pose& pose, const Look& look, int material) {
     Mesh mesh;
-    mesh.material = kMaterialBlade;
+    mesh.material = material;
     mesh.vertices.resize(s.local.size());
     for (std::size_t k = 0; k < s.local.size(); ++k) {
         const cv::Vec3d& p = s.local[k];

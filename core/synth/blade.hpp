@@ -12,8 +12,14 @@ namespace icewatch::synth {
 // the ice of the given kind for amplitude 1 (its volume is scaled afterwards).
 GridSurface bladeSurface(IceKind ice, std::uint32_t seed);
 
-// The blade as rendered: clean (iceScale 0) or iced, posed in the camera frame.
-Mesh bladeMesh(const GridSurface& s, double iceScale, const Pose& pose, const Look& look);
+// The part of a bead ice kind that stands in front of the leading edge: a grid over the chord
+// plane from the leading edge forwards, all of it ice (its clean surface is nothing, so it is
+// rendered iced only). Empty (nu = 0) for the other kinds. Its ice is scaled with the blade's.
+GridSurface beadFront(IceKind ice, std::uint32_t seed);
+
+// The blade as rendered: clean (iceScale 0) or iced, posed in the camera frame; `material` the
+// blade's, or kMaterialBeadFront for beadFront's grid.
+Mesh bladeMesh(const GridSurface& s, double iceScale, const Pose& pose, const Look& look, int material = kMaterialBlade);
 
 // The blade's outline on its flat side, leading edge root to tip then trailing edge tip to root,
 // every stride-th grid point, posed in the camera frame.

@@ -16,6 +16,7 @@ enum Material : int {
     kMaterialIceBlock = 1,
     kMaterialPlate = 2,
     kMaterialTable = 3,
+    kMaterialBeadFront = 4,  // ice standing in front of the blade's leading edge: no blade under it
 };
 
 // An object frame (x, y in the object's plane, h its height towards the camera) placed in the left

@@ -49,13 +49,16 @@ struct Geometry {
 
 Geometry bladeGeometry(const SceneSpec& spec, const Pose& before, const Pose& after, const Look& look) {
     GridSurface surface = bladeSurface(spec.ice, spec.seed);
-    const double scale = spec.iceVolumeMm3 / iceVolumeMm3(surface);
+    GridSurface front = beadFront(spec.ice, spec.seed);  // empty but for a bead
+    const double scale = spec.iceVolumeMm3 / (iceVolumeMm3(surface) + iceVolumeMm3(front));
     for (float& t : surface.ice) t = static_cast<float>(t * scale);
+    for (float& t : front.ice) t = static_cast<float>(t * scale);
     Geometry g;
-    g.iceVolumeMm3 = iceVolumeMm3(surface);
+    g.iceVolumeMm3 = iceVolumeMm3(surface) + iceVolumeMm3(front);
     g.maxIceThicknessMm = *std::max_element(surface.ice.begin(), surface.ice.end());
     g.before.push_back(bladeMesh(surface, 0.0, before, look));
     g.after.push_back(bladeMesh(surface, 1.0, after, look));
+    if (front.nu > 0) g.after.push_back(bladeMesh(front, 1.0, after, look, kMaterialBeadFront));
     g.outline = bladeOutline(surface, before, 10);
     if (spec.background == Background::Table) {
         g.before.push_back(tableMesh(-kTableBelowBladeMm, before, look));
@@ -138,7 +141,8 @@ std::string nameOf(Enum value, const std::pair<Enum, const char*> (&names)[N]) {
 
 constexpr std::pair<SceneKind, const char*> kSceneNames[] = {{SceneKind::Blade, "blade"}, {SceneKind::Block, "block"}};
 constexpr std::pair<IceKind, const char*> kIceNames[] = {
-    {IceKind::LeadingEdge, "leading-edge"}, {IceKind::GlazeAll, "glaze-all"}, {IceKind::Patches, "patches"}};
+    {IceKind::LeadingEdge, "leading-edge"}, {IceKind::GlazeAll, "glaze-all"}, {IceKind::Patches, "patches"},
+    {IceKind::Bead, "bead"}, {IceKind::BeadGlaze, "bead-glaze"}};
 constexpr std::pair<MotionKind, const char*> kMotionNames[] = {{MotionKind::None, "none"}, {MotionKind::Small, "small"}};
 constexpr std::pair<Background, const char*> kBackgroundNames[] = {{Background::Sky, "sky"},
                                                                    {Background::Table, "table"}};

@@ -23,6 +23,9 @@ enum class IceKind {
     LeadingEdge,  // accretion along the leading edge, growing towards the tip, plus a thin glaze
     GlazeAll,     // a thin translucent glaze over the whole visible surface
     Patches,      // a few opaque, rough rime patches anywhere on the blade
+    Bead,         // a narrow bead on the leading edge, a few mm to a few cm wide, standing out of
+                  // the outline the camera sees
+    BeadGlaze,    // the same bead over a thin glaze across the whole visible surface
 };
 
 // How the object moved between the captures.

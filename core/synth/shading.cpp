@@ -32,7 +32,9 @@ float icedComposite(const Shading& s, float albedo, const cv::Vec4f& a) {
     const auto whiteness = static_cast<float>(s.look.iceWhiteness);
     const auto translucencyMm = static_cast<float>(s.look.iceTranslucencyMm);
     switch (s.ice) {
-        case IceKind::LeadingEdge: {
+        case IceKind::LeadingEdge:
+        case IceKind::Bead:
+        case IceKind::BeadGlaze: {
             // White, translucent where thin, with its own faint texture.
             const float opacity = 1.0f - std::exp(-thickness / translucencyMm);
             const float ice = whiteness + 0.03f * fractalNoise(a[0], a[1], 3.0, 3, s.seed + 100);
@@ -87,6 +89,10 @@ float shadeSample(const Shading& shading, int material, const cv::Vec4f& a, floa
             }
             return icedComposite(shading, albedo, a) * a[2];
         }
+        case kMaterialBeadFront:
+            // Ice with nothing under it but sky: its own white, with its own faint texture.
+            return (static_cast<float>(shading.look.iceWhiteness) +
+                    0.03f * fractalNoise(a[0], a[1], 3.0, 3, shading.seed + 100)) * a[2];
         case kMaterialIceBlock:
             return (0.86f + 0.04f * fractalNoise(a[0], a[1], 4.0, 4, shading.seed + 200)) * a[2];
         case kMaterialPlate:

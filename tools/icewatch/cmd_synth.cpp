@@ -101,8 +101,9 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
         ->check(CLI::Range(1, synth::kMaxFrames));
     cmd->add_option("--ice", o->ice,
                     "the blade's ice: leading-edge (a horn along the leading edge), glaze-all (a thin translucent "
-                    "layer over the whole blade) or patches (opaque rime patches anywhere)")
-        ->check(CLI::IsMember({"leading-edge", "glaze-all", "patches"}));
+                    "layer over the whole blade), patches (opaque rime patches anywhere), bead (a narrow bead on the leading "
+                    "edge, standing out of the outline) or bead-glaze (the bead over a thin glaze)")
+        ->check(CLI::IsMember({"leading-edge", "glaze-all", "patches", "bead", "bead-glaze"}));
     cmd->add_option("--motion", o->motion, "the object's motion between the captures: none or small (up to 3 mm, 0.3°)")
         ->check(CLI::IsMember({"none", "small"}));
     cmd->add_option("--background", o->background,

@@ -72,7 +72,8 @@ TextureChange textureChange(const SyntheticScene& scene) {
 }
 
 TEST(SynthLooks, EveryIceKindCarriesExactlyTheRequestedVolume) {
-    for (const IceKind ice : {IceKind::LeadingEdge, IceKind::GlazeAll, IceKind::Patches}) {
+    for (const IceKind ice :
+         {IceKind::LeadingEdge, IceKind::GlazeAll, IceKind::Patches, IceKind::Bead, IceKind::BeadGlaze}) {
         for (const double volume : {97609.0, 257391.0}) {
             SceneSpec spec = smallBlade(ice);
             spec.iceVolumeMm3 = volume;
@@ -82,6 +83,29 @@ TEST(SynthLooks, EveryIceKindCarriesExactlyTheRequestedVolume) {
             EXPECT_NEAR(scene.iceVolumeMm3, volume, 1e-9 * volume) << iceKindName(ice);
             EXPECT_GT(scene.maxIceThicknessMm, 0.0);
         }
+    }
+}
+
+// A bead sits on the leading edge, which is the outline: the iced blade stands out of the clean
+// one there (ice with sky behind it before), and nowhere far from the edge is iced unless the
+// glaze is there too.
+TEST(SynthLooks, ABeadStandsOutOfTheCleanOutlineAndTheGlazeCoversTheRest) {
+    for (const IceKind ice : {IceKind::Bead, IceKind::BeadGlaze}) {
+        const SyntheticScene scene = renderScene(smallBlade(ice, MotionKind::None));
+        const cv::Mat before = scene.beforeDisparity > 0, after = scene.afterDisparity > 0;
+        const int outside = cv::countNonZero(after & ~before);
+        EXPECT_GT(outside, 100) << iceKindName(ice);
+        // Ice only adds: at most a pixel astride the outline, whose samples the glaze's rise moved.
+        EXPECT_LE(cv::countNonZero(before & ~after), 4) << iceKindName(ice);
+        // Inside the clean outline, away from its edges: bare composite, or only the thin glaze.
+        cv::Mat inner;
+        cv::erode(before, inner, cv::Mat(), {-1, -1}, 4);
+        ASSERT_GT(cv::countNonZero(inner), 300);
+        double minIce = 0, maxIce = 0;
+        cv::minMaxLoc(scene.afterIceMm, &minIce, &maxIce, nullptr, nullptr, inner);
+        if (ice == IceKind::Bead) EXPECT_EQ(minIce, 0.0);
+        else EXPECT_GT(minIce, 0.0);
+        EXPECT_LT(cv::mean(scene.afterIceMm, inner)[0], 0.3 * scene.maxIceThicknessMm) << iceKindName(ice);
     }
 }
 
