@@ -71,6 +71,11 @@ void readVolume(Section s, volume::Parameters& v) {
     s.read("max_registration_mm", v.maxRegistrationMm, 0.1, 1000.0);
     s.read("min_support_span_percent", v.minSupportSpanPercent, 0.0, 100.0);
     s.read("ice_mask_grow_px", v.iceMaskGrowPx, 0, 500);
+    s.read("outline_growth_mm", v.outlineGrowthMm, 0.0, 500.0);
+    s.read("outline_ice_min_mm", v.outlineIceMinMm, 0.1, 100.0);
+    s.read("outline_footing_mm", v.outlineFootingMm, 0.0, 100.0);
+    s.read("outline_min_texture_grey", v.outlineMinTextureGrey, 0.0, 255.0);
+    s.read("outline_min_correlation", v.outlineMinCorrelation, 0.0, 1.0);
     s.read("knn_k", v.knnK, 2, 100);
     s.read("knn_theta", v.knnTheta, 0.1, 20.0);
     s.read("grid_cell_mm", v.gridCellMm, 0.05, 100.0);

@@ -6,6 +6,8 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "core/volume/beyond_outline.hpp"
+
 namespace icewatch::volume {
 
 TextureTrackOptions textureTrackOptions(const Parameters& p) {
@@ -17,7 +19,7 @@ TextureTrackOptions textureTrackOptions(const Parameters& p) {
 }
 
 BaselineModel buildBaselineModel(const cv::Mat& roi, const cv::Mat& points, const RectifiedCapture& capture,
-                                 const Parameters& p) {
+                                 double focalPx, const Parameters& p) {
     CV_Assert(roi.type() == CV_8UC1 && points.type() == CV_32FC3 && roi.size() == points.size());
     BaselineModel model;
     // Depths mix at the outline: its margin does not count.
@@ -35,6 +37,8 @@ BaselineModel buildBaselineModel(const cv::Mat& roi, const cv::Mat& points, cons
     model.plane = fitPlane(measuredPoints);
     model.cloud = baselineCloud(points, measured, model.plane, p);
     model.samples = baselineSamples(capture, roi, textureTrackOptions(p));
+    model.ringPx = outlineGrowthPx(p, focalPx, model.plane.origin[2]);
+    model.ring = baselineCloud(points, measurableRing(capture, outlineRing(roi, model.ringPx, p.edgeMarginPx), p), model.plane, p);
     return model;
 }
 

@@ -20,12 +20,16 @@ struct BaselineModel {
     PlaneFrame plane;         // fitted to the measured points: the frame thickness is measured in
     BaselineCloud cloud;      // those points on the plane, with the k-NN filter's verdicts
     BaselineSamples samples;  // the trackers' samples and the baseline's own stereo tracks
+    // The ring around the outline where ice beyond it is looked for (beyond_outline.hpp): its
+    // width, and what the baseline saw there (the outline's own fringe, a table, nothing).
+    int ringPx = 0;
+    BaselineCloud ring;
 };
 
 // `roi`: the region (CV_8U); `points`: the baseline's points (CV_32FC3, NaN where none);
-// `capture`: its tracking images and disparity.
+// `capture`: its tracking images and disparity; `focalPx`: the rectified focal length.
 BaselineModel buildBaselineModel(const cv::Mat& roi, const cv::Mat& points, const RectifiedCapture& capture,
-                                 const Parameters& parameters);
+                                 double focalPx, const Parameters& parameters);
 
 // The texture trackers' options from the volume parameters.
 TextureTrackOptions textureTrackOptions(const Parameters& parameters);

@@ -28,6 +28,7 @@
 #include "core/common/error.hpp"
 #include "core/stereo/matcher.hpp"
 #include "core/volume/background_light.hpp"
+#include "core/volume/beyond_outline.hpp"
 #include "core/volume/height_grid.hpp"
 #include "core/volume/ice_mask.hpp"
 #include "core/volume/matcher_push.hpp"
@@ -324,7 +325,7 @@ MatchRegion VolumeChain::Impl::coarseRegion(const StereoPair& raw) {
 
 std::shared_ptr<const BaselineModel> VolumeChain::Impl::baselineModel(const Surface& s, const cv::Mat& points) const {
     return std::make_shared<const BaselineModel>(
-        buildBaselineModel(s.roi, points, {s.trackLeft, s.trackRight, s.disparity}, parameters));
+        buildBaselineModel(s.roi, points, {s.trackLeft, s.trackRight, s.disparity}, focalPx, parameters));
 }
 
 MatchRegion VolumeChain::Impl::followUpRegion(const Surface& s) const {
@@ -432,8 +433,13 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     result.matcherPushSigmaPx = push.sigmaPx;
 
     // --- both clouds on the baseline's plane, strays out ---
+    // Inside the outline off its mixed edge, and the ring around it where ice may stand out of it.
     const cv::Mat currentOutline = outlineInCurrent(baseline.roi, plane, transform, impl_->projection, p.edgeMarginPx);
-    const PlaneClouds clouds = planeClouds(model->cloud, points(current), currentOutline, plane, transform, p);
+    const cv::Mat currentRing = measurableRing(
+        after, outlineRing(outlineInCurrent(baseline.roi, plane, transform, impl_->projection, 0), model->ringPx, p.edgeMarginPx),
+        p);
+    const PlaneClouds clouds =
+        planeClouds(model->cloud, model->ring, points(current), currentOutline, currentRing, plane, transform, p);
     result.pointsUsed = clouds.currentPoints;
     timer.lap("filter");
     if (result.pointsUsed < p.minPoints) {
@@ -441,7 +447,8 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     }
 
     // --- thickness on the plane's grid, where the ice may be ---
-    const ThicknessMap map = thicknessMap(clouds, baseline.roi, possibleIce, plane, impl_->projection.get_minor<3, 3>(0, 0), p);
+    const ThicknessMap map = thicknessMap(clouds, baseline.roi, outlineRing(baseline.roi, model->ringPx, p.edgeMarginPx), possibleIce,
+                                          plane, impl_->projection.get_minor<3, 3>(0, 0), p);
     if (map.insideNodes == 0) return refused(result, "the region covers no part of the measured surface");
     result.filledPercent = 100.0 * map.filledNodes / std::max(1, map.iceNodes);
     timer.lap("grid");
@@ -457,6 +464,8 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     result.volumeMm3 = ice.volumeMm3;
     result.areaMm2 = ice.areaMm2;
     result.iceAreaMm2 = ice.iceAreaMm2;
+    result.beyondOutlineMm3 = ice.beyondOutlineMm3;
+    result.beyondOutlineAreaMm2 = ice.beyondOutlineAreaMm2;
     result.meanThicknessMm = ice.meanThicknessMm;
     result.maxThicknessMm = ice.maxThicknessMm;
     timer.lap("integrate");
@@ -468,7 +477,8 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
 
     // --- for people (core/pictures draws it) ---
     const cv::Matx33d kInv = impl_->projection.get_minor<3, 3>(0, 0).inv();
-    result.thicknessImageMm = thicknessInImage(ice.smoothedMm, map.grid, plane, transform, kInv, currentOutline);
+    result.thicknessImageMm =
+        thicknessInImage(ice.smoothedMm, map.grid, plane, transform, kInv, currentOutline | currentRing);
     const GridSpec& grid = map.grid;
     for (int y = 0; y < clouds.current.rows; ++y)
         for (int x = 0; x < clouds.current.cols; ++x) {

@@ -76,6 +76,7 @@ struct VolumeResult {
     int changedSamples = 0;      // object samples found again with a changed look (ice)
     double supportSpanPercent = 0;  // extent of the unchanged surface the registration rests on
     double iceAreaMm2 = 0;       // where thickness was integrated: possible ice, grown by the matcher's reach
+    double beyondOutlineMm3 = 0, beyondOutlineAreaMm2 = 0;  // of that, ice standing out of the outline
     double iceMaskPercent = 0;   // of the region
     double matcherPushPx = 0;    // the matcher's change against the tracks' on clean texture (matcher_push.hpp)
     double matcherPushSigmaPx = 0;  // and its standard error

@@ -6,7 +6,8 @@
 //   - the matcher's reach (its windows read that far, so the crop's edge changes nothing inside),
 //   - the largest image motion the registration accepts (max_registration_mm at the region's
 //     nearest depth), and
-//   - the texture trackers' reach (patch radius and search), which read around the outline,
+//   - the texture trackers' reach (patch radius and search), which read around the outline, or
+//     the ring where ice standing out of the outline is looked for, the wider,
 // and only in the band of disparities the baseline found in the region (robust percentiles),
 // widened on the near side by the thickest ice it must see (max_ice_thickness_mm) and on both
 // sides by that motion, converted through the calibration's Q exactly rather than by the
@@ -22,6 +23,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/common/error.hpp"
+#include "core/volume/beyond_outline.hpp"
 
 namespace icewatch::volume {
 
@@ -85,7 +87,9 @@ MatchRegion regionFrom(const cv::Mat& disparity, const cv::Mat& roi, const cv::M
 
     const int motionPx = static_cast<int>(std::ceil(p.maxRegistrationMm * focalPx / zNear));
     region.reachPx = reachPx;
-    region.marginPx = reachPx + motionPx + p.trackRadiusPx + p.trackSearchPx;
+    // Beyond the outline: the trackers' patches, and the ring where ice standing out of it is looked for.
+    const int aroundPx = std::max(p.trackRadiusPx + p.trackSearchPx, outlineGrowthPx(p, focalPx, zNear));
+    region.marginPx = reachPx + motionPx + aroundPx;
     const cv::Rect bounds = cv::boundingRect(roi);
     region.regionBox = bounds;
     const cv::Rect widened(bounds.x - region.marginPx, bounds.y - region.marginPx, bounds.width + 2 * region.marginPx,

@@ -47,6 +47,21 @@ struct Parameters {
     // The possible-ice mask grows by this much around what texture could not vouch for: the
     // matcher's cross arms spread disparity about this far, and the ice's volume with it.
     int iceMaskGrowPx = 40;
+    // Ice beyond the outline (beyond_outline.hpp): a bead or a horn on the leading edge stands
+    // out of the clean outline. The current surface is looked at this far around the outline
+    // (0: not at all); a part of it that touches the object counts when it rises somewhere this
+    // far above the surface it grows from (the outline's nearest measured surface), several times
+    // the depth noise of an averaged capture, where the baseline saw sky or a surface at least
+    // that far below; that footing is known to +- outlineFootingMm (1 sigma: the edge margin's
+    // pixels on a rounded edge).
+    double outlineGrowthMm = 50;
+    double outlineIceMinMm = 2.0;
+    double outlineFootingMm = 1.5;
+    // Only pixels of the ring whose disparity is a measurement count (beyond_outline.hpp:
+    // measurableRing): a textured patch (grey levels, on the trackers' smoothed image) found again
+    // in the right eye.
+    double outlineMinTextureGrey = 1.0;
+    double outlineMinCorrelation = 0.7;
 
     // --- outlier filter (the seed paper, section 2.2) ---
     int knnK = 8;             // neighbours in the plane

@@ -41,15 +41,17 @@ BaselineCloud baselineCloud(const cv::Mat& baselinePoints, const cv::Mat& measur
     return cloud;
 }
 
-PlaneClouds planeClouds(const BaselineCloud& baseline, const cv::Mat& currentPoints, const cv::Mat& currentOutline,
-                        const PlaneFrame& plane, const RigidTransform& toBaseline, const Parameters& p) {
-    CV_Assert(currentPoints.type() == CV_32FC3 && currentOutline.size() == currentPoints.size());
+PlaneClouds planeClouds(const BaselineCloud& baseline, const BaselineCloud& baselineRing, const cv::Mat& currentPoints,
+                        const cv::Mat& currentOutline, const cv::Mat& currentRing, const PlaneFrame& plane,
+                        const RigidTransform& toBaseline, const Parameters& p) {
+    CV_Assert(currentPoints.type() == CV_32FC3 && currentOutline.size() == currentPoints.size() &&
+              currentRing.size() == currentPoints.size());
     std::vector<cv::Point3d> currentList;
     std::vector<cv::Point> currentAt;
     for (int y = 0; y < currentPoints.rows; ++y)
         for (int x = 0; x < currentPoints.cols; ++x) {
             const cv::Vec3f q = currentPoints.at<cv::Vec3f>(y, x);
-            if (!currentOutline.at<std::uint8_t>(y, x) || std::isnan(q[2])) continue;
+            if (!(currentOutline.at<std::uint8_t>(y, x) || currentRing.at<std::uint8_t>(y, x)) || std::isnan(q[2])) continue;
             const cv::Point3d local = plane.toPlane(toBaseline.apply(cv::Vec3d(q[0], q[1], q[2])));
             if (local.z < baseline.lowestMm - kBehindMm || local.z > baseline.highestMm + p.maxThicknessMm) continue;
             currentList.push_back(local);
@@ -58,16 +60,21 @@ PlaneClouds planeClouds(const BaselineCloud& baseline, const cv::Mat& currentPoi
     PlaneClouds clouds;
     // The smallest box holding every pixel of both (one pixel at the origin when both are empty).
     clouds.box = cv::boundingRect(baseline.pixels) | cv::boundingRect(currentAt);
+    if (!baselineRing.pixels.empty()) clouds.box |= cv::boundingRect(baselineRing.pixels);
     if (clouds.box.empty()) clouds.box = {0, 0, 1, 1};
     clouds.baseline = cv::Mat(clouds.box.size(), CV_64FC3, cv::Scalar::all(kNaN));
+    clouds.baselineRing = cv::Mat(clouds.box.size(), CV_64FC3, cv::Scalar::all(kNaN));
     clouds.current = cv::Mat(clouds.box.size(), CV_64FC3, cv::Scalar::all(kNaN));
+    clouds.currentRing = cv::Mat(clouds.box.size(), CV_64FC3, cv::Scalar::all(kNaN));
     const cv::Point origin = clouds.box.tl();
     const auto keepCurrent = knnKeepMask(currentList, p.knnK, p.knnTheta);
-    for (std::size_t i = 0; i < baseline.points.size(); ++i)
-        if (baseline.keep[i]) clouds.baseline.at<cv::Vec3d>(baseline.pixels[i] - origin) = cv::Vec3d(baseline.points[i]);
+    for (const auto& [cloud, map] : {std::pair{&baseline, &clouds.baseline}, std::pair{&baselineRing, &clouds.baselineRing}})
+        for (std::size_t i = 0; i < cloud->points.size(); ++i)
+            if (cloud->keep[i]) map->at<cv::Vec3d>(cloud->pixels[i] - origin) = cv::Vec3d(cloud->points[i]);
     for (std::size_t i = 0; i < currentList.size(); ++i)
         if (keepCurrent[i]) {
-            clouds.current.at<cv::Vec3d>(currentAt[i] - origin) = cv::Vec3d(currentList[i]);
+            cv::Mat& map = currentRing.at<std::uint8_t>(currentAt[i]) ? clouds.currentRing : clouds.current;
+            map.at<cv::Vec3d>(currentAt[i] - origin) = cv::Vec3d(currentList[i]);
             ++clouds.currentPoints;
         }
     return clouds;

@@ -18,7 +18,9 @@ namespace icewatch::volume {
 struct PlaneClouds {
     cv::Rect box;  // in the frame; the maps' pixel (0, 0) is box.tl()
     cv::Mat baseline;
+    cv::Mat baselineRing;  // what the baseline saw around its outline (beyond_outline.hpp)
     cv::Mat current;
+    cv::Mat currentRing;   // the current points around the outline, apart: each side is measured by its own
     int currentPoints = 0;
 };
 
@@ -37,10 +39,12 @@ struct BaselineCloud {
 BaselineCloud baselineCloud(const cv::Mat& baselinePoints, const cv::Mat& measured, const PlaneFrame& plane,
                             const Parameters& parameters);
 
-// `currentOutline`: the region as the object stands in the current capture. A current point far
-// behind the baseline's lowest point is background, one above its highest point by more than
-// max_thickness_mm is sky or a stray: neither is the object.
-PlaneClouds planeClouds(const BaselineCloud& baseline, const cv::Mat& currentPoints, const cv::Mat& currentOutline,
+// `currentOutline`: the region as the object stands in the current capture; `currentRing`: the
+// ring around it where ice standing out of it is looked for. A current point far behind the baseline's lowest point is background, one above its highest
+// point by more than max_thickness_mm is sky or a stray: neither is the object. `baselineRing`:
+// the baseline's points in the ring around its own outline.
+PlaneClouds planeClouds(const BaselineCloud& baseline, const BaselineCloud& baselineRing, const cv::Mat& currentPoints,
+                        const cv::Mat& currentOutline, const cv::Mat& currentRing,
                         const PlaneFrame& plane, const RigidTransform& toBaseline, const Parameters& parameters);
 
 // The baseline's outline as the object stands in the current capture: every outline pixel is put

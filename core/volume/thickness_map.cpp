@@ -8,6 +8,8 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "core/volume/beyond_outline.hpp"
+
 namespace icewatch::volume {
 
 namespace {
@@ -35,15 +37,22 @@ GridSpec regionGrid(const cv::Mat& roi, const PlaneFrame& plane, const cv::Matx3
 
 }  // namespace
 
-ThicknessMap thicknessMap(const PlaneClouds& clouds, const cv::Mat& roi, const cv::Mat& possibleIce,
+ThicknessMap thicknessMap(const PlaneClouds& clouds, const cv::Mat& roi, const cv::Mat& ring, const cv::Mat& possibleIce,
                           const PlaneFrame& plane, const cv::Matx33d& k, const Parameters& p) {
-    CV_Assert(roi.type() == CV_8UC1 && possibleIce.size() == roi.size());
+    CV_Assert(roi.type() == CV_8UC1 && possibleIce.size() == roi.size() && ring.size() == roi.size());
     ThicknessMap map;
-    map.grid = regionGrid(roi, plane, k, p.gridCellMm);
+    map.grid = regionGrid(roi | ring, plane, k, p.gridCellMm);
     const GridSpec& grid = map.grid;
     const StepOptions steps{p.occlusionSlope, p.occlusionStepMm};
     const cv::Mat baselineHeight = interpolateLattice(clouds.baseline, grid, steps);
     const cv::Mat currentHeight = interpolateLattice(clouds.current, grid, steps);
+    const bool anyRing = cv::countNonZero(ring) > 0;
+    const cv::Mat none(grid.nv, grid.nu, CV_64F, cv::Scalar(kNaN));
+    const cv::Mat ringHeight = anyRing && !clouds.baselineRing.empty() ? interpolateLattice(clouds.baselineRing, grid, steps) : none;
+    const cv::Mat currentRingHeight =
+        anyRing && !clouds.currentRing.empty() ? interpolateLattice(clouds.currentRing, grid, steps) : none;
+    cv::Mat rise(grid.nv, grid.nu, CV_64F, cv::Scalar(kNaN));
+    cv::Mat seenObject(grid.nv, grid.nu, CV_8U, cv::Scalar(0));
     map.baselineHeight = baselineHeight.clone();
     fillFromNearest(map.baselineHeight, cv::Mat(grid.nv, grid.nu, CV_8U, cv::Scalar(255)));
 
@@ -56,7 +65,18 @@ ThicknessMap thicknessMap(const PlaneClouds& clouds, const cv::Mat& roi, const c
             const cv::Vec3d image = k * plane.toCamera(grid.u0 + i * grid.du, grid.v0 + j * grid.dv, std::isnan(h) ? 0.0 : h);
             const int x = static_cast<int>(std::lround(image[0] / image[2]));
             const int y = static_cast<int>(std::lround(image[1] / image[2]));
-            if (x < 0 || y < 0 || x >= roi.cols || y >= roi.rows || !roi.at<std::uint8_t>(y, x)) continue;
+            if (x < 0 || y < 0 || x >= roi.cols || y >= roi.rows) continue;
+            if (ring.at<std::uint8_t>(y, x)) {
+                // Where the baseline saw a surface at the object's height (more of a plate than
+                // the outline drawn on it, the matcher's fringe of the outline) that surface is
+                // not ice standing out of the outline: only what rose where there was sky, or a
+                // table below, is.
+                const double seen = ringHeight.at<double>(j, i);
+                if (seen > h - p.outlineIceMinMm) seenObject.at<std::uint8_t>(j, i) = 255;
+                rise.at<double>(j, i) = currentRingHeight.at<double>(j, i) - h;
+                continue;
+            }
+            if (!roi.at<std::uint8_t>(y, x)) continue;
             map.inside.at<std::uint8_t>(j, i) = 255;
             ++map.insideNodes;
             if (!possibleIce.at<std::uint8_t>(y, x)) {
@@ -67,6 +87,17 @@ ThicknessMap thicknessMap(const PlaneClouds& clouds, const cv::Mat& roi, const c
             ++map.iceNodes;
             map.thickness.at<double>(j, i) = currentHeight.at<double>(j, i) - baselineHeight.at<double>(j, i);
         }
+    // The object's surface seen by the baseline, and the holes of its measurement among it.
+    cv::dilate(seenObject, seenObject, cv::getStructuringElement(cv::MORPH_RECT, {7, 7}));
+    rise.setTo(kNaN, seenObject);
+    // The ring starts edge_margin_px outside the outline: that many nodes may lie between the two.
+    const double pixelMm = plane.origin[2] / k(0, 0);
+    const int gapNodes = static_cast<int>(std::ceil(p.edgeMarginPx * pixelMm / std::min(grid.du, grid.dv)));
+    map.beyond = iceBeyondOutline(rise, map.inside, p.outlineIceMinMm, gapNodes);
+    rise.copyTo(map.thickness, map.beyond);
+    map.onIce.setTo(255, map.beyond);
+    map.beyondNodes = cv::countNonZero(map.beyond);
+    map.iceNodes += map.beyondNodes;
     map.filledNodes = fillFromNearest(map.thickness, map.onIce);
     return map;
 }
@@ -77,9 +108,15 @@ IceSummary summarise(const ThicknessMap& map, Integration method) {
     s.volumeMm3 = integrate(map.thickness, map.grid, method);
     s.areaMm2 = map.insideNodes * node;
     s.iceAreaMm2 = map.iceNodes * node;
+    if (map.beyondNodes > 0) {
+        cv::Mat beyond(map.thickness.size(), CV_64F, cv::Scalar(0));
+        map.thickness.copyTo(beyond, map.beyond);
+        s.beyondOutlineMm3 = integrate(beyond, map.grid, method);
+        s.beyondOutlineAreaMm2 = map.beyondNodes * node;
+    }
     s.meanThicknessMm = s.areaMm2 > 0 ? s.volumeMm3 / s.areaMm2 : 0.0;
     s.smoothedMm = finiteBoxMean(map.thickness, 2);
-    s.smoothedMm.setTo(kNaN, map.inside == 0);
+    s.smoothedMm.setTo(kNaN, (map.inside | map.beyond) == 0);
     for (int j = 0; j < s.smoothedMm.rows; ++j)
         for (int i = 0; i < s.smoothedMm.cols; ++i) {
             const double t = s.smoothedMm.at<double>(j, i);

@@ -14,8 +14,9 @@ struct ThicknessMap {
     cv::Mat thickness;       // CV_64F mm: current minus baseline where ice may be, 0 elsewhere inside, NaN outside
     cv::Mat baselineHeight;  // CV_64F mm, filled from the nearest node everywhere (the nodes' place on the object)
     cv::Mat inside;          // CV_8U per node: within the region's outline
-    cv::Mat onIce;           // CV_8U per node: within the ice mask
-    int insideNodes = 0, iceNodes = 0;
+    cv::Mat onIce;           // CV_8U per node: within the ice mask, or ice beyond the outline
+    cv::Mat beyond;          // CV_8U per node: ice standing out of the outline (beyond_outline.hpp)
+    int insideNodes = 0, iceNodes = 0, beyondNodes = 0;
     int filledNodes = 0;     // ice nodes without a measurement, filled from the nearest
 };
 
@@ -25,7 +26,13 @@ struct ThicknessMap {
 // 0, so neither its noise nor the registration's error there is integrated. A node is placed in
 // the image at the baseline's height above the plane (the plane alone would misplace nodes by the
 // blade's camber). `k`: the rectified left camera matrix.
-ThicknessMap thicknessMap(const PlaneClouds& clouds, const cv::Mat& roi, const cv::Mat& possibleIce,
+//
+// Beyond the outline, in `ring` (per left baseline pixel, around `roi`), where the baseline saw sky
+// or a surface well below the outline's (a table), the current surface is measured from the
+// surface the ice grows from, the outline's nearest (baselineHeight, filled), and counted where
+// iceBeyondOutline finds ice. Where the baseline saw a surface at the object's height (more of a
+// plate than the outline drawn on it, the matcher's fringe) nothing is measured.
+ThicknessMap thicknessMap(const PlaneClouds& clouds, const cv::Mat& roi, const cv::Mat& ring, const cv::Mat& possibleIce,
                           const PlaneFrame& plane, const cv::Matx33d& k, const Parameters& parameters);
 
 // For people: a grid map (NaN where none) where it lies in the current left image, inside
@@ -39,7 +46,8 @@ cv::Mat thicknessInImage(const cv::Mat& thickness, const GridSpec& grid, const P
 struct IceSummary {
     double volumeMm3 = 0;
     double areaMm2 = 0;          // of the region on the plane
-    double iceAreaMm2 = 0;       // of the ice mask on the plane
+    double iceAreaMm2 = 0;       // of the ice mask on the plane, and of the ice beyond the outline
+    double beyondOutlineMm3 = 0, beyondOutlineAreaMm2 = 0;  // the part standing out of the outline
     double meanThicknessMm = 0;  // volume over the region's area: what the alarms compare, steady
                                  // however far the ice mask reaches
     double maxThicknessMm = 0;   // of the thickness averaged over 5 × 5 nodes (one node is noise)

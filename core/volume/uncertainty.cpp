@@ -85,13 +85,17 @@ UncertaintyBudget volumeUncertainty(const ThicknessMap& map, const PlaneFrame& p
     b.biasMm3 = p.subpixelBiasPx * depthPerPxMm * iceAreaMm2;
     b.edgeMm3 = p.edgeUncertaintyPx * pixelMm * edgeIntegral(map);
     b.scaleMm3 = 0.01 * p.scaleUncertaintyPercent * std::abs(volumeMm3);
+    // Beyond the outline no surface was seen under the ice: where it meets the object is taken
+    // from the outline's nearest measurement, off the edge by the edge margin. One error for all.
+    b.outlineMm3 = p.outlineFootingMm * map.beyondNodes * map.grid.areaPerNodeMm2();
     return b;
 }
 
 double expandedUncertainty(const UncertaintyBudget& b, double coverageFactor) {
     return coverageFactor * std::sqrt(b.noiseMm3 * b.noiseMm3 + b.registrationMm3 * b.registrationMm3 +
                                       b.trackingMm3 * b.trackingMm3 + b.pushMm3 * b.pushMm3 +
-                                      b.biasMm3 * b.biasMm3 + b.edgeMm3 * b.edgeMm3 + b.scaleMm3 * b.scaleMm3);
+                                      b.biasMm3 * b.biasMm3 + b.edgeMm3 * b.edgeMm3 + b.scaleMm3 * b.scaleMm3 +
+                                      b.outlineMm3 * b.outlineMm3);
 }
 
 }  // namespace icewatch::volume

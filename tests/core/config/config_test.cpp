@@ -120,6 +120,11 @@ TEST(Config, ShippedFileDocumentsTheDefaults) {
     EXPECT_EQ(v.maxRegistrationMm, d.maxRegistrationMm);
     EXPECT_EQ(v.minSupportSpanPercent, d.minSupportSpanPercent);
     EXPECT_EQ(v.iceMaskGrowPx, d.iceMaskGrowPx);
+    EXPECT_EQ(v.outlineGrowthMm, d.outlineGrowthMm);
+    EXPECT_EQ(v.outlineIceMinMm, d.outlineIceMinMm);
+    EXPECT_EQ(v.outlineFootingMm, d.outlineFootingMm);
+    EXPECT_EQ(v.outlineMinTextureGrey, d.outlineMinTextureGrey);
+    EXPECT_EQ(v.outlineMinCorrelation, d.outlineMinCorrelation);
     EXPECT_EQ(v.scaleUncertaintyPercent, d.scaleUncertaintyPercent);
     EXPECT_EQ(v.knnK, d.knnK);
     EXPECT_EQ(v.knnTheta, d.knnTheta);

@@ -147,6 +147,29 @@ TEST(VolumeChain, AveragedIcedBladeIsMeasuredAndItsUncertaintyCoversTheError) {
     EXPECT_LT(error, 0.15 * b.scene.iceVolumeMm3) << "measured " << r.volumeMm3;
     EXPECT_GT(r.textureInliers, 12) << "the motion rests on the blade's own unchanged texture";
     EXPECT_GT(r.changedSamples + 0, 0) << "some of the blade's texture was seen to change";
+    // Its ice lies on the blade: the featureless sky around it, which the matcher fills with the
+    // blade's depths, is no ice standing out of the outline.
+    EXPECT_LT(r.beyondOutlineMm3, 0.02 * b.scene.iceVolumeMm3) << r.beyondOutlineAreaMm2 << " mm2 beyond the outline";
+}
+
+// A narrow bead on the leading edge, which is the outline the camera sees: half of it or more
+// stands in front of the clean outline, where the baseline saw sky. Read only inside the outline,
+// this blade said ok at -51 % (47 463 ± 47 472 mm³ against 97 609).
+TEST(VolumeChain, ABeadStandingOutOfTheOutlineIsMeasuredInFull) {
+    synth::SceneSpec spec = smallBladeSpec();
+    spec.ice = synth::IceKind::Bead;
+    spec.iceVolumeMm3 = 97609;
+    spec.seed = 1;
+    spec.motion = synth::MotionKind::Small;
+    const AveragedBlade b = measureAveragedBlade(spec, stereo::Method::Paper);
+    const VolumeResult& r = b.result;
+    ASSERT_TRUE(r.ok) << r.reason;
+    const double error = std::abs(r.volumeMm3 - b.scene.iceVolumeMm3);
+    EXPECT_LT(error, r.uncertaintyMm3) << "measured " << r.volumeMm3 << " ± " << r.uncertaintyMm3 << " truth "
+                                       << b.scene.iceVolumeMm3;
+    EXPECT_LT(error, 0.2 * b.scene.iceVolumeMm3) << "measured " << r.volumeMm3;
+    EXPECT_GT(r.beyondOutlineMm3, 0.2 * b.scene.iceVolumeMm3);
+    EXPECT_GT(r.budget.outlineMm3, 0.0);
 }
 
 // Both glazes of the renderer: one that veils the texture (seed 1) and one so clear that the texture

@@ -48,9 +48,16 @@ TEST(MatchRegion, BandCoversTheRegionWidenedByIceAndMotionThroughTheDepth) {
     EXPECT_GE(m.band.min, farD - 4.0);
     EXPECT_GE(m.band.max - 1, nearD + 1.0) << "the nearest disparity is not on the band's edge";
     EXPECT_LE(m.band.max, nearD + 5.0);
-    // Margin: the matcher's reach, 20 mm at the nearest depth (22 px), the trackers' reach.
-    const int motionPx = static_cast<int>(std::ceil(20.0 * kFocalPx / (kFocalPx * kBaselineMm / 109.9)));
-    EXPECT_EQ(m.marginPx, 10 + motionPx + p.trackRadiusPx + p.trackSearchPx);
+    // Margin: the matcher's reach, 20 mm at the nearest depth (22 px), and the wider of the
+    // trackers' reach and the ring where ice beyond the outline is looked for (50 mm there).
+    const double nearestMm = kFocalPx * kBaselineMm / 109.9;
+    const int motionPx = static_cast<int>(std::ceil(20.0 * kFocalPx / nearestMm));
+    const int ringPx = static_cast<int>(std::ceil(p.outlineGrowthMm * kFocalPx / nearestMm));
+    ASSERT_GT(ringPx, p.trackRadiusPx + p.trackSearchPx);
+    EXPECT_EQ(m.marginPx, 10 + motionPx + ringPx);
+    p.outlineGrowthMm = 0;
+    EXPECT_EQ(matchRegionFromBaseline(b.disparity, b.roi, idealQ(), kFocalPx, p, 10).marginPx,
+              10 + motionPx + p.trackRadiusPx + p.trackSearchPx);
     EXPECT_EQ(m.regionBox, cv::Rect(200, 150, 200, 100));
     EXPECT_EQ(m.box, cv::Rect(200 - m.marginPx, 150 - m.marginPx, 200 + 2 * m.marginPx, 100 + 2 * m.marginPx));
 }

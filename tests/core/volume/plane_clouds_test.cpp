@@ -38,7 +38,8 @@ TEST(PlaneClouds, MapsCoverThePointsBoxAndHoldEachPixelsPoint) {
     RigidTransform shift;
     shift.translation = {0, 0, -0.5};  // the current capture moved 0.5 mm towards the camera
     const PlaneClouds clouds =
-        planeClouds(baselineCloud(baseline, measured, plane, Parameters{}), current, outline, plane, shift, Parameters{});
+        planeClouds(baselineCloud(baseline, measured, plane, Parameters{}), BaselineCloud{}, current, outline,
+                    cv::Mat::zeros(outline.size(), CV_8U), plane, shift, Parameters{});
 
     EXPECT_EQ(clouds.box, baselineRect | currentRect);
     ASSERT_EQ(clouds.baseline.size(), clouds.box.size());
@@ -62,12 +63,35 @@ TEST(PlaneClouds, MapsCoverThePointsBoxAndHoldEachPixelsPoint) {
         }
 }
 
+// Around the outline the current points are kept apart: ice standing out of the outline is
+// measured from them alone, and the outline's own surface from the points inside it.
+TEST(PlaneClouds, TheRingsPointsAreKeptApartFromTheOutlines) {
+    const cv::Rect all(10, 10, 30, 20), inside(15, 15, 20, 10);
+    const cv::Mat current = patchPoints(all);
+    cv::Mat outline = cv::Mat::zeros(current.size(), CV_8U), ring = cv::Mat::zeros(current.size(), CV_8U);
+    outline(inside).setTo(255);
+    ring(all).setTo(255);
+    ring(inside).setTo(0);
+    const PlaneFrame plane = facingPlane();
+    const PlaneClouds clouds = planeClouds(baselineCloud(current, outline, plane, Parameters{}), BaselineCloud{}, current,
+                                           outline, ring, plane, RigidTransform{}, Parameters{});
+    EXPECT_EQ(clouds.currentPoints, all.area());
+    for (int y = 0; y < clouds.box.height; ++y)
+        for (int x = 0; x < clouds.box.width; ++x) {
+            const cv::Point frame = clouds.box.tl() + cv::Point(x, y);
+            EXPECT_EQ(inside.contains(frame), !std::isnan(clouds.current.at<cv::Vec3d>(y, x)[2])) << frame;
+            EXPECT_EQ(all.contains(frame) && !inside.contains(frame),
+                      !std::isnan(clouds.currentRing.at<cv::Vec3d>(y, x)[2])) << frame;
+        }
+}
+
 TEST(PlaneClouds, NoPointsGiveOneEmptyPixel) {
     const cv::Mat none(20, 30, CV_32FC3, cv::Scalar::all(kNaN));
     const cv::Mat all(none.size(), CV_8U, cv::Scalar(255));
     const PlaneFrame plane = facingPlane();
     const PlaneClouds clouds =
-        planeClouds(baselineCloud(none, all, plane, Parameters{}), none, all, plane, RigidTransform{}, Parameters{});
+        planeClouds(baselineCloud(none, all, plane, Parameters{}), BaselineCloud{}, none, all,
+                    cv::Mat::zeros(all.size(), CV_8U), plane, RigidTransform{}, Parameters{});
     EXPECT_EQ(clouds.box.area(), 1);
     EXPECT_EQ(clouds.currentPoints, 0);
     EXPECT_TRUE(std::isnan(clouds.current.at<cv::Vec3d>(0, 0)[2]));

@@ -1,0 +1,148 @@
+// Ice beyond the outline (beyond_outline.hpp).
+#include "core/volume/beyond_outline.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include <opencv2/imgproc.hpp>
+
+namespace icewatch::volume {
+
+namespace {
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+}  // namespace
+
+int outlineGrowthPx(const Parameters& p, double focalPx, double depthMm) {
+    if (p.outlineGrowthMm <= 0 || !(depthMm > 0)) return 0;
+    return static_cast<int>(std::ceil(p.outlineGrowthMm * focalPx / depthMm));
+}
+
+namespace {
+
+// `region` dilated by a disc of `radiusPx` over `reach` only (region itself for 0).
+cv::Mat grown(const cv::Mat& region, const cv::Rect& reach, int radiusPx) {
+    cv::Mat out;
+    if (radiusPx <= 0) return region(reach).clone();
+    cv::dilate(region(reach), out, cv::getStructuringElement(cv::MORPH_ELLIPSE, {2 * radiusPx + 1, 2 * radiusPx + 1}));
+    return out;
+}
+
+}  // namespace
+
+cv::Mat outlineRing(const cv::Mat& region, int growthPx, int skipPx) {
+    CV_Assert(region.type() == CV_8UC1);
+    cv::Mat ring = cv::Mat::zeros(region.size(), CV_8U);
+    if (growthPx <= 0 || skipPx >= growthPx) return ring;
+    // The dilation over the region's box and the growth's reach only, as the ice mask does.
+    const cv::Rect box = cv::boundingRect(region);
+    const cv::Rect reach = (box + cv::Size(2 * growthPx, 2 * growthPx) - cv::Point(growthPx, growthPx)) &
+                           cv::Rect({0, 0}, region.size());
+    if (reach.empty()) return ring;
+    cv::Mat part = ring(reach);
+    part.setTo(255, grown(region, reach, growthPx) & ~grown(region, reach, skipPx));
+    return ring;
+}
+
+namespace {
+
+constexpr int kPatchRadius = 4;
+
+// Zero-mean normalised correlation of the left patch at (x, y) with the right one at (x - d, y),
+// the right image read linearly between its pixels; NaN where the left patch's deviation is under
+// minDeviation or either patch leaves its image.
+double eyesCorrelation(const TrackingImage& left, const TrackingImage& right, int x, int y, double d,
+                       double minDeviation) {
+    const int r = kPatchRadius;
+    const int lx = x - left.origin.x, ly = y - left.origin.y;
+    const double rx = x - d - right.origin.x;
+    const int ry = y - right.origin.y;
+    const int rx0 = static_cast<int>(std::floor(rx));
+    const double t = rx - rx0;
+    if (lx - r < 0 || ly - r < 0 || lx + r >= left.grey.cols || ly + r >= left.grey.rows) return kNaN;
+    if (rx0 - r < 0 || ry - r < 0 || rx0 + r + 1 >= right.grey.cols || ry + r >= right.grey.rows) return kNaN;
+    double sa = 0, sb = 0, saa = 0, sbb = 0, sab = 0;
+    for (int j = -r; j <= r; ++j) {
+        const auto* a = left.grey.ptr<float>(ly + j);
+        const auto* b = right.grey.ptr<float>(ry + j);
+        for (int i = -r; i <= r; ++i) {
+            const double va = a[lx + i];
+            const double vb = (1.0 - t) * b[rx0 + i] + t * b[rx0 + i + 1];
+            sa += va;
+            sb += vb;
+            saa += va * va;
+            sbb += vb * vb;
+            sab += va * vb;
+        }
+    }
+    const double n = (2 * r + 1) * (2 * r + 1);
+    const double va = saa - sa * sa / n, vb = sbb - sb * sb / n;
+    if (va < minDeviation * minDeviation * n || vb <= 0) return kNaN;
+    return (sab - sa * sb / n) / std::sqrt(va * vb);
+}
+
+}  // namespace
+
+cv::Mat measurableRing(const RectifiedCapture& capture, const cv::Mat& ring, const Parameters& p) {
+    CV_Assert(ring.type() == CV_8UC1 && capture.disparity.size() == ring.size());
+    cv::Mat measurable = cv::Mat::zeros(ring.size(), CV_8U);
+    const cv::Rect box = cv::boundingRect(ring);
+    if (box.empty() || capture.left.empty() || capture.right.empty()) return measurable;
+    cv::Mat failed = cv::Mat::zeros(ring.size(), CV_8U);
+    // Each row on its own: the same mask whatever the thread count.
+    cv::parallel_for_(cv::Range(box.y, box.y + box.height), [&](const cv::Range& rows) {
+        for (int y = rows.start; y < rows.end; ++y) {
+            const auto* inRing = ring.ptr<std::uint8_t>(y);
+            const auto* d = capture.disparity.ptr<float>(y);
+            for (int x = box.x; x < box.x + box.width; ++x) {
+                if (!inRing[x]) continue;
+                const double c = d[x] > 0 ? eyesCorrelation(capture.left, capture.right, x, y, d[x], p.outlineMinTextureGrey)
+                                          : kNaN;
+                if (c >= p.outlineMinCorrelation) measurable.at<std::uint8_t>(y, x) = 255;
+                else failed.at<std::uint8_t>(y, x) = 255;
+            }
+        }
+    });
+    // A patch astride the silhouette of what stands against featureless sky reads the edge in both
+    // eyes and passes, while its centre is sky that the matcher gave the object's depth.
+    cv::Mat reach;
+    cv::dilate(failed, reach, cv::getStructuringElement(cv::MORPH_RECT, {2 * kPatchRadius + 1, 2 * kPatchRadius + 1}));
+    measurable.setTo(0, reach);
+    return measurable;
+}
+
+cv::Mat iceBeyondOutline(const cv::Mat& riseMm, const cv::Mat& inside, double minRiseMm, int gapNodes) {
+    CV_Assert(riseMm.type() == CV_64FC1 && inside.type() == CV_8UC1 && riseMm.size() == inside.size());
+    const cv::Mat rising = (riseMm > 0) & (inside == 0);  // NaN compares false
+    // What lies within the gap of the region (and next to it).
+    cv::Mat near;
+    const cv::Mat square = cv::getStructuringElement(cv::MORPH_RECT, {2 * gapNodes + 3, 2 * gapNodes + 3});
+    cv::dilate(inside, near, square);
+    cv::Mat labels;
+    const int n = cv::connectedComponents(rising, labels, 4, CV_32S);
+    std::vector<double> highest(static_cast<std::size_t>(n), 0.0);
+    std::vector<std::uint8_t> touches(static_cast<std::size_t>(n), 0);
+    for (int j = 0; j < labels.rows; ++j)
+        for (int i = 0; i < labels.cols; ++i) {
+            const auto l = static_cast<std::size_t>(labels.at<int>(j, i));
+            if (l == 0) continue;
+            highest[l] = std::max(highest[l], riseMm.at<double>(j, i));
+            if (near.at<std::uint8_t>(j, i)) touches[l] = 1;
+        }
+    cv::Mat ice = cv::Mat::zeros(riseMm.size(), CV_8U);
+    for (int j = 0; j < labels.rows; ++j)
+        for (int i = 0; i < labels.cols; ++i) {
+            const auto l = static_cast<std::size_t>(labels.at<int>(j, i));
+            if (l != 0 && touches[l] && highest[l] >= minRiseMm) ice.at<std::uint8_t>(j, i) = 255;
+        }
+    if (gapNodes > 0) {
+        // The gap between the region and the ice touching it: unmeasured nodes near both.
+        cv::Mat nearIce;
+        cv::dilate(ice, nearIce, square);
+        ice.setTo(255, near & nearIce & (inside == 0) & ~(riseMm == riseMm));  // NaN != NaN: not measured
+    }
+    return ice;
+}
+
+}  // namespace icewatch::volume

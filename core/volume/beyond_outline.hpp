@@ -1,0 +1,43 @@
+#pragma once
+
+#include <opencv2/core.hpp>
+
+#include "core/volume/parameters.hpp"
+#include "core/volume/texture_tracks.hpp"
+
+namespace icewatch::volume {
+
+// Ice beyond the outline. Ice grows on the leading edge, and the leading edge is the blade's
+// outline as the camera sees it: a bead or a horn there stands out of the clean outline, against
+// the sky or the table, where the baseline has no surface to difference it with. It is looked for
+// in a ring around the baseline's outline and measured from the surface it grows from.
+
+// The ring's width in pixels: outline_growth_mm at the object's depth.
+int outlineGrowthPx(const Parameters& parameters, double focalPx, double depthMm);
+
+// `region` (CV_8U) grown by growthPx, less the region grown by skipPx: the first pixels outside
+// the outline mix the object's depths with what is behind it, as the edge margin inside does
+// (and a surface that only stands out of the outline by a pixel's rounding is not beyond it).
+// All 0 for growthPx 0.
+cv::Mat outlineRing(const cv::Mat& region, int growthPx, int skipPx = 0);
+
+// The ring's pixels whose disparity is a measurement: the left image's patch (9 x 9 px) there is
+// textured (standard deviation at least outline_min_texture_grey) and found again in the right
+// image at that disparity (zero-mean normalised correlation at least outline_min_correlation),
+// less the 4 px by which such a patch reaches past a silhouette into the pixels that failed. The
+// matcher fills featureless sky with the disparities of the object beside it, and the sky's noise
+// does not correlate between the eyes. CV_8U.
+cv::Mat measurableRing(const RectifiedCapture& capture, const cv::Mat& ring, const Parameters& parameters);
+
+// Which grid nodes outside the region hold ice standing out of it. `riseMm` (CV_64F, NaN where
+// not measured) is the current surface's height above the surface the ice grows from at each
+// node outside the region; `inside` (CV_8U) the region's nodes. A connected part of the positive
+// rise is ice when it touches the region (ice grows from the object; the sky, a bird or the table
+// do not touch it from above) and rises somewhere by min_rise_mm, well above the depth noise: it
+// is measured down to where it meets the surface, not cut at the threshold. The ring leaves a gap
+// of up to gapNodes next to the region (outlineRing's skip): a part within it touches, and the
+// gap's nodes between the two are ice too (their thickness is then the nearest measured). CV_8U,
+// 255 on ice.
+cv::Mat iceBeyondOutline(const cv::Mat& riseMm, const cv::Mat& inside, double minRiseMm, int gapNodes = 0);
+
+}  // namespace icewatch::volume

@@ -1,0 +1,105 @@
+// Ice beyond the outline: the ring around the outline, its textured pixels, and which rising parts
+// of it are ice.
+#include "core/volume/beyond_outline.hpp"
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include <opencv2/imgproc.hpp>
+
+namespace icewatch::volume {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+TEST(BeyondOutline, GrowthIsTheMillimetresAtTheObjectsDepth) {
+    Parameters p;
+    p.outlineGrowthMm = 50;
+    EXPECT_EQ(outlineGrowthPx(p, 763.0, 850.0), 45);  // 44.9 px, rounded up
+    p.outlineGrowthMm = 0;
+    EXPECT_EQ(outlineGrowthPx(p, 763.0, 850.0), 0);
+}
+
+TEST(BeyondOutline, RingSurroundsTheRegionAndLeavesItOut) {
+    cv::Mat region = cv::Mat::zeros(100, 200, CV_8U);
+    cv::rectangle(region, cv::Rect(50, 40, 100, 20), cv::Scalar(255), cv::FILLED);
+    const cv::Mat ring = outlineRing(region, 10);
+    EXPECT_EQ(cv::countNonZero(ring & region), 0);
+    EXPECT_TRUE(ring.at<std::uint8_t>(35, 100));   // 5 px above the region
+    EXPECT_TRUE(ring.at<std::uint8_t>(69, 100));   // 10 px below
+    EXPECT_FALSE(ring.at<std::uint8_t>(71, 100));  // 12 px below
+    EXPECT_TRUE(ring.at<std::uint8_t>(50, 41));
+    EXPECT_FALSE(ring.at<std::uint8_t>(50, 38));
+    EXPECT_EQ(cv::countNonZero(outlineRing(region, 0)), 0);
+}
+
+// Featureless sky with its own noise in each eye around a textured strip, and the matcher's
+// disparity everywhere (it fills the sky with the object's): only the strip is a measurement.
+TEST(BeyondOutline, MeasurableRingLeavesTheFeaturelessSkyOut) {
+    cv::Mat region = cv::Mat::zeros(120, 200, CV_8U);
+    cv::rectangle(region, cv::Rect(40, 50, 120, 20), cv::Scalar(255), cv::FILLED);
+    const cv::Mat ring = outlineRing(region, 30);
+    const int disparity = 10;
+    // Ice just above the region, fixed to the surface: a random texture of a few pixels' grain.
+    cv::Mat texture(region.rows, region.cols + disparity, CV_32F);
+    cv::randn(texture, 0.0, 12.0);
+    cv::GaussianBlur(texture, texture, {0, 0}, 1.2);
+    texture *= 3.0;
+    auto strip = [&](int x, int y) {
+        return y >= 36 && y < 50 && x >= 60 && x < 140 ? static_cast<double>(texture.at<float>(y, x)) : 0.0;
+    };
+    std::mt19937 random(3);
+    std::normal_distribution<float> noise(0.0f, 0.8f);
+    cv::Mat left(region.size(), CV_32F), right(region.size(), CV_32F);
+    for (int y = 0; y < left.rows; ++y)
+        for (int x = 0; x < left.cols; ++x) {
+            left.at<float>(y, x) = static_cast<float>(200.0 + strip(x, y)) + noise(random);
+            const int seen = x + disparity;  // the right eye sees the surface point x + d at x
+            right.at<float>(y, x) = static_cast<float>(200.0 + (seen < left.cols ? strip(seen, y) : 0.0)) + noise(random);
+        }
+    const RectifiedCapture capture{prepareForTracking(left), prepareForTracking(right),
+                                   cv::Mat(region.size(), CV_32F, cv::Scalar(static_cast<float>(disparity)))};
+    Parameters p;
+    const cv::Mat measurable = measurableRing(capture, ring, p);
+    EXPECT_EQ(cv::countNonZero(measurable & ~ring), 0);
+    const cv::Rect stripInside(64, 40, 72, 6);  // off the strip's edges by the patch's reach
+    EXPECT_GT(cv::countNonZero(measurable(stripInside)), 0.95 * stripInside.area());
+    cv::Mat sky = ring.clone();
+    sky(cv::Rect(60, 36, 80, 14)).setTo(0);
+    EXPECT_EQ(cv::countNonZero(measurable & sky), 0);
+    // Without the right eye's texture where the matcher put it, nothing is measured.
+    const RectifiedCapture elsewhere{capture.left, capture.right, cv::Mat(region.size(), CV_32F, cv::Scalar(3.0f))};
+    EXPECT_LT(cv::countNonZero(measurableRing(elsewhere, ring, p)), 0.05 * stripInside.area());
+}
+
+// A grid: the region's nodes in rows 10-19; above it a bead rising to 5 mm whose rim falls to
+// 0.3 mm, a noise speck touching the region that never reaches the threshold, and a bird above
+// the ring's middle, far from the region.
+TEST(BeyondOutline, IceTouchesTheObjectRisesAboveTheNoiseAndIsTakenDownToItsFooting) {
+    cv::Mat inside = cv::Mat::zeros(30, 60, CV_8U);
+    inside.rowRange(10, 20).setTo(255);
+    cv::Mat rise(30, 60, CV_64F, cv::Scalar(kNaN));
+    for (int i = 5; i < 25; ++i) {
+        rise.at<double>(9, i) = 5.0;
+        rise.at<double>(8, i) = 2.5;
+        rise.at<double>(7, i) = 0.3;  // the bead's rim: under the threshold, still the bead's
+        rise.at<double>(6, i) = -0.4;
+    }
+    rise.at<double>(9, 40) = 1.2;  // noise at the outline
+    rise.at<double>(9, 41) = 0.8;
+    rise.at<double>(2, 50) = 9.0;  // a bird
+    rise.at<double>(3, 50) = 9.0;
+    const cv::Mat ice = iceBeyondOutline(rise, inside, 2.0);
+    EXPECT_EQ(cv::countNonZero(ice), 60);
+    EXPECT_TRUE(ice.at<std::uint8_t>(7, 10));
+    EXPECT_FALSE(ice.at<std::uint8_t>(6, 10));
+    EXPECT_FALSE(ice.at<std::uint8_t>(9, 40));
+    EXPECT_FALSE(ice.at<std::uint8_t>(2, 50));
+    EXPECT_EQ(cv::countNonZero(ice & inside), 0);
+}
+
+}  // namespace
+}  // namespace icewatch::volume
