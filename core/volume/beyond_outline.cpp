@@ -47,7 +47,7 @@ cv::Mat outlineRing(const cv::Mat& region, int growthPx, int skipPx) {
 
 namespace {
 
-constexpr int kPatchRadius = 4;
+constexpr int kPatchRadius = kRingPatchRadiusPx;
 
 // Zero-mean normalised correlation of the left patch at (x, y) with the right one at (x - d, y),
 // the right image read linearly between its pixels; NaN where the left patch's deviation is under
@@ -112,9 +112,10 @@ cv::Mat measurableRing(const RectifiedCapture& capture, const cv::Mat& ring, con
     return measurable;
 }
 
-cv::Mat iceBeyondOutline(const cv::Mat& riseMm, const cv::Mat& inside, double minRiseMm, int gapNodes) {
+cv::Mat iceBeyondOutline(const cv::Mat& riseMm, const cv::Mat& inside, double minRiseMm, int gapNodes,
+                         double floorMm) {
     CV_Assert(riseMm.type() == CV_64FC1 && inside.type() == CV_8UC1 && riseMm.size() == inside.size());
-    const cv::Mat rising = (riseMm > 0) & (inside == 0);  // NaN compares false
+    const cv::Mat rising = (riseMm > floorMm) & (inside == 0);  // NaN compares false
     // What lies within the gap of the region (and next to it).
     cv::Mat near;
     const cv::Mat square = cv::getStructuringElement(cv::MORPH_RECT, {2 * gapNodes + 3, 2 * gapNodes + 3});

@@ -12,6 +12,9 @@ namespace icewatch::volume {
 // the sky or the table, where the baseline has no surface to difference it with. It is looked for
 // in a ring around the baseline's outline and measured from the surface it grows from.
 
+// How far a patch of measurableRing reaches: that far from the featureless sky nothing is measured.
+constexpr int kRingPatchRadiusPx = 4;
+
 // The ring's width in pixels: outline_growth_mm at the object's depth.
 int outlineGrowthPx(const Parameters& parameters, double focalPx, double depthMm);
 
@@ -31,13 +34,14 @@ cv::Mat measurableRing(const RectifiedCapture& capture, const cv::Mat& ring, con
 
 // Which grid nodes outside the region hold ice standing out of it. `riseMm` (CV_64F, NaN where
 // not measured) is the current surface's height above the surface the ice grows from at each
-// node outside the region; `inside` (CV_8U) the region's nodes. A connected part of the positive
-// rise is ice when it touches the region (ice grows from the object; the sky, a bird or the table
+// node outside the region; `inside` (CV_8U) the region's nodes. A connected part of the rise above
+// floorMm (0, or the rise's noise where it is a difference of two measured surfaces) is ice when it touches the region (ice grows from the object; the sky, a bird or the table
 // do not touch it from above) and rises somewhere by min_rise_mm, well above the depth noise: it
 // is measured down to where it meets the surface, not cut at the threshold. The ring leaves a gap
 // of up to gapNodes next to the region (outlineRing's skip): a part within it touches, and the
 // gap's nodes between the two are ice too (their thickness is then the nearest measured). CV_8U,
 // 255 on ice.
-cv::Mat iceBeyondOutline(const cv::Mat& riseMm, const cv::Mat& inside, double minRiseMm, int gapNodes = 0);
+cv::Mat iceBeyondOutline(const cv::Mat& riseMm, const cv::Mat& inside, double minRiseMm, int gapNodes = 0,
+                         double floorMm = 0.0);
 
 }  // namespace icewatch::volume

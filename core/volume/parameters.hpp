@@ -50,10 +50,10 @@ struct Parameters {
     // Ice beyond the outline (beyond_outline.hpp): a bead or a horn on the leading edge stands
     // out of the clean outline. The current surface is looked at this far around the outline
     // (0: not at all); a part of it that touches the object counts when it rises somewhere this
-    // far above the surface it grows from (the outline's nearest measured surface), several times
-    // the depth noise of an averaged capture, where the baseline saw sky or a surface at least
-    // that far below; that footing is known to +- outlineFootingMm (1 sigma: the edge margin's
-    // pixels on a rounded edge).
+    // far above the surface it grows from (what the baseline saw there, or the outline's nearest
+    // measured surface where it saw sky), several times the depth noise of an averaged capture
+    // (and at least four times the noise the ring shows); that footing, where not seen, is known
+    // to +- outlineFootingMm (1 sigma: the edge margin's pixels on a rounded edge).
     double outlineGrowthMm = 50;
     double outlineIceMinMm = 2.0;
     double outlineFootingMm = 1.5;

@@ -27,11 +27,11 @@ struct ThicknessMap {
 // the image at the baseline's height above the plane (the plane alone would misplace nodes by the
 // blade's camber). `k`: the rectified left camera matrix.
 //
-// Beyond the outline, in `ring` (per left baseline pixel, around `roi`), where the baseline saw sky
-// or a surface well below the outline's (a table), the current surface is measured from the
-// surface the ice grows from, the outline's nearest (baselineHeight, filled), and counted where
-// iceBeyondOutline finds ice. Where the baseline saw a surface at the object's height (more of a
-// plate than the outline drawn on it, the matcher's fringe) nothing is measured.
+// Beyond the outline, in `ring` (per left baseline pixel, around `roi`), the current surface is
+// measured from what the baseline saw there (a table, more of a plate than the outline drawn on
+// it, the matcher's fringe) or, where it saw sky, from the surface the ice grows from, the
+// outline's nearest (baselineHeight, filled); it counts where iceBeyondOutline finds ice rising
+// outline_ice_min_mm and four times the noise of the rise where both captures saw a surface.
 ThicknessMap thicknessMap(const PlaneClouds& clouds, const cv::Mat& roi, const cv::Mat& ring, const cv::Mat& possibleIce,
                           const PlaneFrame& plane, const cv::Matx33d& k, const Parameters& parameters);
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <vector>
 
+#include "core/volume/beyond_outline.hpp"
 #include "core/volume/rigid_motion.hpp"
 
 namespace icewatch::volume {
@@ -62,6 +63,26 @@ double edgeIntegral(const ThicknessMap& map) {
     return integral;
 }
 
+// ∫ t dl along the outline: the thickness of the region's nodes next to a node that is neither in
+// the region nor ice beyond it, times the node spacing across that boundary.
+double outlineIceIntegral(const ThicknessMap& map) {
+    const GridSpec& grid = map.grid;
+    double integral = 0;
+    auto open = [&](int j, int i) {
+        return j < 0 || i < 0 || j >= grid.nv || i >= grid.nu ||
+               !(map.inside.at<std::uint8_t>(j, i) || (!map.beyond.empty() && map.beyond.at<std::uint8_t>(j, i)));
+    };
+    for (int j = 0; j < grid.nv; ++j)
+        for (int i = 0; i < grid.nu; ++i) {
+            if (!map.inside.at<std::uint8_t>(j, i)) continue;
+            const double t = map.thickness.at<double>(j, i);
+            if (!(t > 0)) continue;
+            if (open(j, i - 1) || open(j, i + 1)) integral += t * grid.dv;
+            if (open(j - 1, i) || open(j + 1, i)) integral += t * grid.du;
+        }
+    return integral;
+}
+
 }  // namespace
 
 UncertaintyBudget volumeUncertainty(const ThicknessMap& map, const PlaneFrame& plane, const MotionEstimate& motion,
@@ -87,7 +108,13 @@ UncertaintyBudget volumeUncertainty(const ThicknessMap& map, const PlaneFrame& p
     b.scaleMm3 = 0.01 * p.scaleUncertaintyPercent * std::abs(volumeMm3);
     // Beyond the outline no surface was seen under the ice: where it meets the object is taken
     // from the outline's nearest measurement, off the edge by the edge margin. One error for all.
-    b.outlineMm3 = p.outlineFootingMm * map.beyondNodes * map.grid.areaPerNodeMm2();
+    const double footingMm3 = p.outlineFootingMm * map.beyondNodes * map.grid.areaPerNodeMm2();
+    // And next to the outline the ring is blind (its edge margin, and the reach of a patch from the
+    // featureless sky): ice on the outline may stand out of it that far unseen, as high as it is
+    // on the outline (a bead of a few pixels; anything from none to all of it, 1/sqrt(3)).
+    const double blindMm = (p.edgeMarginPx + kRingPatchRadiusPx) * pixelMm;
+    const double unseenMm3 = blindMm * outlineIceIntegral(map) / std::sqrt(3.0);
+    b.outlineMm3 = std::hypot(footingMm3, unseenMm3);
     return b;
 }
 

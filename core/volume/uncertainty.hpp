@@ -15,7 +15,8 @@ struct UncertaintyBudget {
     double pushMm3 = 0;           // the matcher's change departing from the tracks' (matcher_push.hpp)
     double biasMm3 = 0;           // systematic sub-pixel disparity bias
     double edgeMm3 = 0;           // where the ice's edges are
-    double outlineMm3 = 0;        // the footing of ice standing out of the outline (beyond_outline.hpp)
+    double outlineMm3 = 0;        // ice at the outline: the footing of what stands out of it, and what may
+                                  // stand out of it unseen (beyond_outline.hpp)
     double scaleMm3 = 0;          // the depth scale and the matcher's response on ice, relative to the volume
 };
 

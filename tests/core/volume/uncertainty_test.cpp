@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include "core/volume/beyond_outline.hpp"
+
 namespace icewatch::volume {
 namespace {
 
@@ -35,6 +37,33 @@ TEST(VolumeUncertainty, ThePushCountsWithWhatIsNotKnownOfIt) {
     push.sigmaPx = 0.05;
     EXPECT_NEAR(volumeUncertainty(map, plane, {}, push, view, p, 800.0).pushMm3,
                 std::hypot(0.01, 0.05) * depthPerPx * area, 1e-9);
+}
+
+// Next to the outline the ring is blind for edge_margin_px and a ring patch's reach: ice on the
+// outline may stand out of it that far unseen. Ice beyond the outline closes that edge; its
+// footing counts instead.
+TEST(VolumeUncertainty, IceOnTheOutlineMayStandOutOfItWhereTheRingIsBlind) {
+    ThicknessMap map = flatMap();
+    map.beyond = cv::Mat::zeros(10, 20, CV_8U);
+    PlaneFrame plane;
+    plane.origin = {0, 0, 1000};
+    const ViewGeometry view{1000.0, 60.0, 1000.0};  // 1 mm a pixel
+    Parameters p;
+    p.edgeMarginPx = 3;
+    p.outlineFootingMm = 1.5;
+    const double blindMm = 3.0 + kRingPatchRadiusPx;
+    // The whole border of the 40 x 20 mm grid, 1 mm thick: 120 mm of outline.
+    EXPECT_NEAR(volumeUncertainty(map, plane, {}, {}, view, p, 800.0).outlineMm3, blindMm * 120.0 / std::sqrt(3.0), 1e-9);
+    // The top row's nodes out of the region and ice beyond it: the top edge is closed, the sides
+    // shorter by a node, and the footing of the ice beyond counts.
+    map.inside.row(0).setTo(0);
+    map.beyond.row(0).setTo(255);
+    map.beyondNodes = 20;
+    const double unseen = blindMm * (120.0 - 40.0 - 4.0) / std::sqrt(3.0);
+    EXPECT_NEAR(volumeUncertainty(map, plane, {}, {}, view, p, 800.0).outlineMm3,
+                std::hypot(unseen, 1.5 * 20 * 4.0), 1e-9);
+    map.thickness.setTo(0.0);
+    EXPECT_NEAR(volumeUncertainty(map, plane, {}, {}, view, p, 800.0).outlineMm3, 1.5 * 20 * 4.0, 1e-9);
 }
 
 }  // namespace
