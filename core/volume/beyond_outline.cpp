@@ -11,15 +11,8 @@
 namespace icewatch::volume {
 
 namespace {
+
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-}  // namespace
-
-int outlineGrowthPx(const Parameters& p, double focalPx, double depthMm) {
-    if (p.outlineGrowthMm <= 0 || !(depthMm > 0)) return 0;
-    return static_cast<int>(std::ceil(p.outlineGrowthMm * focalPx / depthMm));
-}
-
-namespace {
 
 // `region` dilated by a disc of `radiusPx` over `reach` only (region itself for 0).
 cv::Mat grown(const cv::Mat& region, const cv::Rect& reach, int radiusPx) {
@@ -30,6 +23,11 @@ cv::Mat grown(const cv::Mat& region, const cv::Rect& reach, int radiusPx) {
 }
 
 }  // namespace
+
+int outlineGrowthPx(const Parameters& p, double focalPx, double depthMm) {
+    if (p.outlineGrowthMm <= 0 || !(depthMm > 0)) return 0;
+    return static_cast<int>(std::ceil(p.outlineGrowthMm * focalPx / depthMm));
+}
 
 cv::Mat outlineRing(const cv::Mat& region, int growthPx, int skipPx) {
     CV_Assert(region.type() == CV_8UC1);
@@ -47,14 +45,12 @@ cv::Mat outlineRing(const cv::Mat& region, int growthPx, int skipPx) {
 
 namespace {
 
-constexpr int kPatchRadius = kRingPatchRadiusPx;
-
 // Zero-mean normalised correlation of the left patch at (x, y) with the right one at (x - d, y),
 // the right image read linearly between its pixels; NaN where the left patch's deviation is under
 // minDeviation or either patch leaves its image.
 double eyesCorrelation(const TrackingImage& left, const TrackingImage& right, int x, int y, double d,
                        double minDeviation) {
-    const int r = kPatchRadius;
+    const int r = kRingPatchRadiusPx;
     const int lx = x - left.origin.x, ly = y - left.origin.y;
     const double rx = x - d - right.origin.x;
     const int ry = y - right.origin.y;
@@ -107,7 +103,7 @@ cv::Mat measurableRing(const RectifiedCapture& capture, const cv::Mat& ring, con
     // A patch astride the silhouette of what stands against featureless sky reads the edge in both
     // eyes and passes, while its centre is sky that the matcher gave the object's depth.
     cv::Mat reach;
-    cv::dilate(failed, reach, cv::getStructuringElement(cv::MORPH_RECT, {2 * kPatchRadius + 1, 2 * kPatchRadius + 1}));
+    cv::dilate(failed, reach, cv::getStructuringElement(cv::MORPH_RECT, {2 * kRingPatchRadiusPx + 1, 2 * kRingPatchRadiusPx + 1}));
     measurable.setTo(0, reach);
     return measurable;
 }
