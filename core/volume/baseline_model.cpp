@@ -38,7 +38,8 @@ BaselineModel buildBaselineModel(const cv::Mat& roi, const cv::Mat& points, cons
     model.cloud = baselineCloud(points, measured, model.plane, p);
     model.samples = baselineSamples(capture, roi, textureTrackOptions(p));
     model.ringPx = outlineGrowthPx(p, focalPx, model.plane.origin[2]);
-    model.ring = baselineCloud(points, measurableRing(capture, outlineRing(roi, model.ringPx, p.edgeMarginPx), p), model.plane, p);
+    model.ringMask = outlineRing(roi, model.ringPx, p.edgeMarginPx);
+    model.ring = baselineCloud(points, measurableRing(capture, model.ringMask, p), model.plane, p);
     return model;
 }
 

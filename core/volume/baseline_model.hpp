@@ -23,6 +23,7 @@ struct BaselineModel {
     // The ring around the outline where ice beyond it is looked for (beyond_outline.hpp): its
     // width, and what the baseline saw there (the outline's own fringe, a table, nothing).
     int ringPx = 0;
+    cv::Mat ringMask;  // CV_8U: the ring itself, from edge_margin_px to ringPx outside the region
     BaselineCloud ring;
 };
 
