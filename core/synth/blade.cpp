@@ -7,9 +7,10 @@
 //   glaze-all     a thin layer over the whole visible surface, trailing edge, root and tip
 //                 included, somewhat thicker towards the leading edge and the tip;
 //   patches       a few soft-edged, rough rime patches anywhere on the blade, placed by the seed;
-//   bead          a narrow bead right on the leading edge (a few mm to a few cm across, by the seed),
-//                 which is the blade's outline as the camera sees it: it rises over the suction side
-//                 and stands out in front of the clean outline (beadFront), leaving the root clean;
+//   bead          a bead right on the leading edge, about as high as it is wide (a few mm across
+//                 for a little ice, a few cm for much; its proportions by the seed), which is the
+//                 blade's outline as the camera sees it: it rises over the suction side and stands
+//                 out in front of the clean outline (beadFront), leaving the root clean;
 //   bead-glaze    the same bead over a thin glaze across the whole visible surface.
 #include "core/synth/blade.hpp"
 
@@ -29,6 +30,7 @@ constexpr double kRootChordMm = 120.0;
 constexpr double kTipChordMm = 32.0;
 constexpr double kAirfoilThickness = 0.12;  // NACA 0012 half-thickness seen from the suction side
 constexpr double kPitchAxisChord = 0.3;
+constexpr double kBeadGlazeMm = 0.6;  // the glaze under a bead, mm (more towards the tip)
 
 double smoothstep(double e0, double e1, double x) {
     const double t = std::clamp((x - e0) / (e1 - e0), 0.0, 1.0);
@@ -41,17 +43,21 @@ struct Patch {
     double centreXMm, centreChord, radiusXMm, radiusChord, height;
 };
 
-// The bead's size: how far it reaches over the suction side and in front of the leading edge (mm,
-// the same along the span, so it is narrow against the root's chord and broad at the tip).
+// The bead's shape: how far it reaches over the suction side (mm, the same along the span, so it
+// is narrow against the root's chord and broad at the tip), how far in front of the leading edge
+// and how high it stands (mm). A bead is about as high as it is wide: its size follows how much
+// ice there is (bladeGeometry picks the reach that carries the requested volume), its proportions
+// the seed.
 struct Bead {
-    double overMm, frontMm;
+    double overMm, frontMm, heightMm;
 };
 
-Bead drawBead(std::uint32_t seed) {
+Bead drawBead(std::uint32_t seed, double overMm) {
     std::mt19937 random(seed ^ 0x42656164u);
     std::uniform_real_distribution<double> unit(0.0, 1.0);
-    const double overMm = 3.0 * std::pow(10.0, unit(random));  // 3-30 mm, as often narrow as broad
-    return {overMm, overMm * (0.4 + 0.6 * unit(random))};
+    const double front = 0.4 + 0.6 * unit(random);
+    const double aspect = 0.4 + 0.5 * unit(random);
+    return {overMm, overMm * front, overMm * aspect};
 }
 
 // Across the bead (0 on the leading edge, 1 at its reach): rounded, meeting the surface at a slant.
@@ -78,7 +84,8 @@ std::vector<Patch> drawPatches(std::uint32_t seed) {
 // (0 leading edge .. 1 trailing edge), planform point (x, y).
 class IceShape {
 public:
-    IceShape(IceKind kind, std::uint32_t seed) : kind_(kind), seed_(seed), bead_(drawBead(seed)) {
+    IceShape(IceKind kind, std::uint32_t seed, double beadOverMm)
+        : kind_(kind), seed_(seed), bead_(drawBead(seed, beadOverMm)) {
         if (kind == IceKind::Patches) patches_ = drawPatches(seed);
     }
 
@@ -87,9 +94,9 @@ public:
         switch (kind_) {
             case IceKind::Bead:
             case IceKind::BeadGlaze: {
-                const double bead = beadAlongSpan(spanPos, x, -kPitchAxisChord * chordMm, seed_) *
+                const double bead = bead_.heightMm * beadAlongSpan(spanPos, x, -kPitchAxisChord * chordMm, seed_) *
                                     beadProfile(c * chordMm / bead_.overMm);
-                const double glaze = kind_ == IceKind::BeadGlaze ? 0.06 * (0.7 + 0.6 * spanPos) : 0.0;
+                const double glaze = kind_ == IceKind::BeadGlaze ? kBeadGlazeMm * (0.7 + 0.6 * spanPos) : 0.0;
                 return bead + glaze;
             }
             case IceKind::LeadingEdge: {
@@ -130,8 +137,8 @@ double chordAt(double spanPos) { return kRootChordMm + (kTipChordMm - kRootChord
 
 }  // namespace
 
-GridSurface bladeSurface(IceKind ice, std::uint32_t seed) {
-    const IceShape iceShape(ice, seed);
+GridSurface bladeSurface(IceKind ice, std::uint32_t seed, double beadOverMm) {
+    const IceShape iceShape(ice, seed, beadOverMm);
     GridSurface s;
     s.nu = 410;
     s.nv = 96;
@@ -154,10 +161,10 @@ GridSurface bladeSurface(IceKind ice, std::uint32_t seed) {
     return s;
 }
 
-GridSurface beadFront(IceKind ice, std::uint32_t seed) {
+GridSurface beadFront(IceKind ice, std::uint32_t seed, double beadOverMm) {
     GridSurface s;
     if (ice != IceKind::Bead && ice != IceKind::BeadGlaze) return s;
-    const Bead bead = drawBead(seed);
+    const Bead bead = drawBead(seed, beadOverMm);
     s.nu = 410;  // the blade's span stations, so that the front meets the blade along its edge
     s.nv = 16;
     s.local.resize(static_cast<std::size_t>(s.nu + 1) * (s.nv + 1));
@@ -170,7 +177,8 @@ GridSurface beadFront(IceKind ice, std::uint32_t seed) {
             const double leadingEdgeY = -kPitchAxisChord * chordAt(spanPos);
             // On the chord plane, where the leading edge is: the bead's footing in front of it.
             s.local[s.index(i, j)] = {x, leadingEdgeY - t * bead.frontMm, 0.0};
-            s.ice[s.index(i, j)] = static_cast<float>(beadAlongSpan(spanPos, x, leadingEdgeY, seed) * beadProfile(t));
+            s.ice[s.index(i, j)] =
+                static_cast<float>(bead.heightMm * beadAlongSpan(spanPos, x, leadingEdgeY, seed) * beadProfile(t));
         }
     }
     return s;

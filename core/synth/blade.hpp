@@ -7,15 +7,20 @@
 
 namespace icewatch::synth {
 
+// A bead's reach over the suction side (mm) before bladeGeometry sizes it to the requested volume.
+constexpr double kBeadReferenceMm = 10.0;
+
 // The seed paper's model blade as a grid over its planform (x along the span, root at -x, y along
 // the chord, leading edge at -y, h the suction side's height above the flat pressure side), with
-// the ice of the given kind for amplitude 1 (its volume is scaled afterwards).
-GridSurface bladeSurface(IceKind ice, std::uint32_t seed);
+// the ice of the given kind for amplitude 1 (its volume is scaled afterwards). A bead's ice is in
+// mm already, for a bead reaching beadOverMm over the suction side, as high as the seed's
+// proportions make it.
+GridSurface bladeSurface(IceKind ice, std::uint32_t seed, double beadOverMm = kBeadReferenceMm);
 
 // The part of a bead ice kind that stands in front of the leading edge: a grid over the chord
 // plane from the leading edge forwards, all of it ice (its clean surface is nothing, so it is
 // rendered iced only). Empty (nu = 0) for the other kinds. Its ice is scaled with the blade's.
-GridSurface beadFront(IceKind ice, std::uint32_t seed);
+GridSurface beadFront(IceKind ice, std::uint32_t seed, double beadOverMm = kBeadReferenceMm);
 
 // The blade as rendered: clean (iceScale 0) or iced, posed in the camera frame; `material` the
 // blade's, or kMaterialBeadFront for beadFront's grid.

@@ -19,7 +19,10 @@
 #include "core/synth/scene.hpp"
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <random>
+#include <vector>
 
 #include <opencv2/imgcodecs.hpp>
 
@@ -47,9 +50,27 @@ struct Geometry {
     double maxIceThicknessMm = 0.0;
 };
 
+// The bead's front is ice standing on nothing: where the bead is absent (towards the root) there is
+// no surface in front of the leading edge at all, not a sheet of zero thickness.
+Mesh withoutBareTriangles(Mesh mesh) {
+    const auto bare = [&mesh](int k) { return mesh.attributes[static_cast<std::size_t>(k)][3] <= 0.0f; };
+    std::erase_if(mesh.triangles, [&bare](const std::array<int, 3>& t) { return bare(t[0]) && bare(t[1]) && bare(t[2]); });
+    return mesh;
+}
+
 Geometry bladeGeometry(const SceneSpec& spec, const Pose& before, const Pose& after, const Look& look) {
     GridSurface surface = bladeSurface(spec.ice, spec.seed);
     GridSurface front = beadFront(spec.ice, spec.seed);  // empty but for a bead
+    if (front.nu > 0) {
+        // A bead's cross-section grows with the square of its reach: the reach that carries the
+        // requested volume over what the glaze under it holds, so that a bead stays as high as it
+        // is wide and only a little ice makes a narrow one.
+        const double beadMm3 = iceVolumeMm3(bladeSurface(IceKind::Bead, spec.seed)) + iceVolumeMm3(front);
+        const double glazeMm3 = iceVolumeMm3(surface) + iceVolumeMm3(front) - beadMm3;
+        const double overMm = kBeadReferenceMm * std::sqrt(std::max(0.05, spec.iceVolumeMm3 - glazeMm3) / beadMm3);
+        surface = bladeSurface(spec.ice, spec.seed, overMm);
+        front = beadFront(spec.ice, spec.seed, overMm);
+    }
     const double scale = spec.iceVolumeMm3 / (iceVolumeMm3(surface) + iceVolumeMm3(front));
     for (float& t : surface.ice) t = static_cast<float>(t * scale);
     for (float& t : front.ice) t = static_cast<float>(t * scale);
@@ -58,7 +79,7 @@ Geometry bladeGeometry(const SceneSpec& spec, const Pose& before, const Pose& af
     g.maxIceThicknessMm = *std::max_element(surface.ice.begin(), surface.ice.end());
     g.before.push_back(bladeMesh(surface, 0.0, before, look));
     g.after.push_back(bladeMesh(surface, 1.0, after, look));
-    if (front.nu > 0) g.after.push_back(bladeMesh(front, 1.0, after, look, kMaterialBeadFront));
+    if (front.nu > 0) g.after.push_back(withoutBareTriangles(bladeMesh(front, 1.0, after, look, kMaterialBeadFront)));
     g.outline = bladeOutline(surface, before, 10);
     if (spec.background == Background::Table) {
         g.before.push_back(tableMesh(-kTableBelowBladeMm, before, look));
