@@ -142,4 +142,48 @@ cv::Mat iceBeyondOutline(const cv::Mat& riseMm, const cv::Mat& inside, double mi
     return ice;
 }
 
+cv::Mat taperedIce(const cv::Mat& hidden, const cv::Mat& inside, const cv::Mat& edgeThicknessMm, double minThicknessMm,
+                   int gapNodes, cv::Mat& thickness) {
+    CV_Assert(hidden.type() == CV_8UC1 && inside.type() == CV_8UC1 && hidden.size() == inside.size());
+    CV_Assert(edgeThicknessMm.type() == CV_64FC1 && edgeThicknessMm.size() == inside.size());
+    CV_Assert(thickness.type() == CV_64FC1 && thickness.size() == inside.size());
+    // The nodes between the region and what hides the background, up to gapNodes wide, stand too.
+    cv::Mat closed = inside | hidden;
+    if (gapNodes > 0) {
+        cv::morphologyEx(closed, closed, cv::MORPH_CLOSE,
+                         cv::getStructuringElement(cv::MORPH_RECT, {2 * gapNodes + 1, 2 * gapNodes + 1}));
+    }
+    const cv::Mat candidate = closed & (inside == 0);
+    cv::Mat near;
+    cv::dilate(inside, near, cv::getStructuringElement(cv::MORPH_RECT, {3, 3}));
+    cv::Mat labels;
+    const int n = cv::connectedComponents(candidate, labels, 8, CV_32S);
+    std::vector<std::uint8_t> touches(static_cast<std::size_t>(n), 0);
+    for (int j = 0; j < labels.rows; ++j)
+        for (int i = 0; i < labels.cols; ++i)
+            if (near.at<std::uint8_t>(j, i)) touches[static_cast<std::size_t>(labels.at<int>(j, i))] = 1;
+    touches[0] = 0;
+    cv::Mat standing = cv::Mat::zeros(inside.size(), CV_8U);
+    for (int j = 0; j < labels.rows; ++j)
+        for (int i = 0; i < labels.cols; ++i)
+            if (touches[static_cast<std::size_t>(labels.at<int>(j, i))]) standing.at<std::uint8_t>(j, i) = 255;
+    // Node distances to the region and to the background; the outline and the silhouette lie half
+    // a node beyond the last node on either side.
+    cv::Mat toRegion, toBackground;
+    cv::distanceTransform(inside == 0, toRegion, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+    cv::distanceTransform(inside | standing, toBackground, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+    cv::Mat ice = cv::Mat::zeros(inside.size(), CV_8U);
+    for (int j = 0; j < inside.rows; ++j)
+        for (int i = 0; i < inside.cols; ++i) {
+            if (!standing.at<std::uint8_t>(j, i)) continue;
+            const double height = edgeThicknessMm.at<double>(j, i);
+            if (!(height >= minThicknessMm)) continue;
+            const double in = toRegion.at<float>(j, i) - 0.5, out = toBackground.at<float>(j, i) - 0.5;
+            const double t = in / std::max(1e-9, in + out);
+            thickness.at<double>(j, i) = height * (1.0 - t * t);
+            ice.at<std::uint8_t>(j, i) = 255;
+        }
+    return ice;
+}
+
 }  // namespace icewatch::volume

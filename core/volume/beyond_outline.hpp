@@ -44,4 +44,16 @@ cv::Mat measurableRing(const RectifiedCapture& capture, const cv::Mat& ring, con
 cv::Mat iceBeyondOutline(const cv::Mat& riseMm, const cv::Mat& inside, double minRiseMm, int gapNodes = 0,
                          double floorMm = 0.0);
 
+// Ice standing out of the outline where nothing under it could be measured, seen only by the
+// background it hides (`hidden`, per node, silhouette.hpp): as high on the outline as the ice on
+// the region's nearest nodes (`edgeThicknessMm`, per node), tapering to nothing where the
+// background shows again, as a rounded bead does: (1 - t^2) of that height, t from the outline
+// (0) to the hidden part's far edge (1). A part that does not touch the region is not ice, nor is
+// one whose ice on the outline is under minThicknessMm (a cloud passing behind a clean edge hides
+// the background too). Next to the outline the background could not be compared (the baseline
+// showed the object there): nodes between the region and a hidden part, up to gapNodes wide,
+// stand too. Writes the thickness into `thickness` (CV_64F) on the nodes it returns (CV_8U, 255).
+cv::Mat taperedIce(const cv::Mat& hidden, const cv::Mat& inside, const cv::Mat& edgeThicknessMm, double minThicknessMm,
+                   int gapNodes, cv::Mat& thickness);
+
 }  // namespace icewatch::volume

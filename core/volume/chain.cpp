@@ -435,9 +435,19 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     // --- both clouds on the baseline's plane, strays out ---
     // Inside the outline off its mixed edge, and the ring around it where ice may stand out of it.
     const cv::Mat currentOutline = outlineInCurrent(baseline.roi, plane, transform, impl_->projection, p.edgeMarginPx);
-    const cv::Mat currentRing = measurableRing(
-        after, outlineRing(outlineInCurrent(baseline.roi, plane, transform, impl_->projection, 0), model->ringPx, p.edgeMarginPx),
-        p);
+    const cv::Mat objectInCurrent = outlineInCurrent(baseline.roi, plane, transform, impl_->projection, 0);
+    const cv::Mat currentRing = measurableRing(after, outlineRing(objectInCurrent, model->ringPx, p.edgeMarginPx), p);
+    // And what the current capture hides of the background beside the outline, off its mixed
+    // edge as the ring, where the baseline saw background too (the object's edge, moved, is not ice).
+    HiddenBackground hidden;
+    if (lightRatio && model->ringPx > 0) {
+        cv::Mat where = outlineRing(objectInCurrent, model->ringPx, p.edgeMarginPx);
+        cv::Mat baselineObject;
+        cv::dilate(baseline.roi, baselineObject, cv::getStructuringElement(cv::MORPH_ELLIPSE, {5, 5}));
+        where.setTo(0, baselineObject);
+        hidden = {backgroundHidden(baseline.leftGrey, current.leftGrey, where, *lightRatio, p.outlineMinContrastGrey),
+                  transform};
+    }
     const PlaneClouds clouds =
         planeClouds(model->cloud, model->ring, points(current), currentOutline, currentRing, plane, transform, p);
     result.pointsUsed = clouds.currentPoints;
@@ -448,7 +458,7 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
 
     // --- thickness on the plane's grid, where the ice may be ---
     const ThicknessMap map = thicknessMap(clouds, baseline.roi, model->ringMask, possibleIce, plane,
-                                          impl_->projection.get_minor<3, 3>(0, 0), p);
+                                          impl_->projection.get_minor<3, 3>(0, 0), p, hidden);
     if (map.insideNodes == 0) return refused(result, "the region covers no part of the measured surface");
     result.filledPercent = 100.0 * map.filledNodes / std::max(1, map.iceNodes);
     timer.lap("grid");

@@ -62,6 +62,10 @@ struct Parameters {
     // in the right eye.
     double outlineMinTextureGrey = 1.0;
     double outlineMinCorrelation = 0.7;
+    // Where the baseline saw bare background beside the outline, the ice standing there is seen by
+    // what it hides (silhouette.hpp): a pixel whose grey changed by at least this much (and four
+    // times the background's own change).
+    double outlineMinContrastGrey = 3.0;
 
     // --- outlier filter (the seed paper, section 2.2) ---
     int knnK = 8;             // neighbours in the plane

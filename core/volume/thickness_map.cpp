@@ -49,7 +49,8 @@ GridSpec regionGrid(const cv::Mat& roi, const PlaneFrame& plane, const cv::Matx3
 }  // namespace
 
 ThicknessMap thicknessMap(const PlaneClouds& clouds, const cv::Mat& roi, const cv::Mat& ring, const cv::Mat& possibleIce,
-                          const PlaneFrame& plane, const cv::Matx33d& k, const Parameters& p) {
+                          const PlaneFrame& plane, const cv::Matx33d& k, const Parameters& p,
+                          const HiddenBackground& hidden) {
     CV_Assert(roi.type() == CV_8UC1 && possibleIce.size() == roi.size() && ring.size() == roi.size());
     ThicknessMap map;
     map.grid = regionGrid(roi | ring, plane, k, p.gridCellMm);
@@ -63,6 +64,7 @@ ThicknessMap thicknessMap(const PlaneClouds& clouds, const cv::Mat& roi, const c
     const cv::Mat currentRingHeight =
         anyRing && !clouds.currentRing.empty() ? interpolateLattice(clouds.currentRing, grid, steps) : none;
     cv::Mat rise(grid.nv, grid.nu, CV_64F, cv::Scalar(kNaN));
+    cv::Mat bare(grid.nv, grid.nu, CV_8U, cv::Scalar(0));  // outside the region, no surface seen by the baseline
     std::vector<double> seenRises;
     map.baselineHeight = baselineHeight.clone();
     fillFromNearest(map.baselineHeight, cv::Mat(grid.nv, grid.nu, CV_8U, cv::Scalar(255)));
@@ -82,11 +84,15 @@ ThicknessMap thicknessMap(const PlaneClouds& clouds, const cv::Mat& roi, const c
                 // drawn on it, the matcher's fringe), or from the outline's nearest surface where
                 // it saw sky.
                 const double seen = ringHeight.at<double>(j, i);
+                if (std::isnan(seen)) bare.at<std::uint8_t>(j, i) = 255;
                 rise.at<double>(j, i) = currentRingHeight.at<double>(j, i) - (std::isnan(seen) ? h : seen);
                 if (!std::isnan(seen) && !std::isnan(rise.at<double>(j, i))) seenRises.push_back(rise.at<double>(j, i));
                 continue;
             }
-            if (!roi.at<std::uint8_t>(y, x)) continue;
+            if (!roi.at<std::uint8_t>(y, x)) {
+                bare.at<std::uint8_t>(j, i) = 255;
+                continue;
+            }
             map.inside.at<std::uint8_t>(j, i) = 255;
             ++map.insideNodes;
             if (!possibleIce.at<std::uint8_t>(y, x)) {
@@ -107,6 +113,35 @@ ThicknessMap thicknessMap(const PlaneClouds& clouds, const cv::Mat& roi, const c
     const int gapNodes = static_cast<int>(std::ceil(p.edgeMarginPx * pixelMm / std::min(grid.du, grid.dv)));
     map.beyond = iceBeyondOutline(rise, map.inside, minRiseMm, gapNodes, noiseMm);
     rise.copyTo(map.thickness, map.beyond);
+    if (!hidden.pixels.empty()) {
+        // As high on the outline as the ice on the region's nearest nodes, averaged over a few.
+        cv::Mat edge = map.thickness.clone();
+        edge.setTo(kNaN, map.inside == 0);
+        edge = finiteBoxMean(edge, 2);
+        fillFromNearest(edge, cv::Mat(grid.nv, grid.nu, CV_8U, cv::Scalar(255)));
+        // A node is looked for at the height of the ice on the outline above it: ice on the outline
+        // seen obliquely hides the background beyond it without standing there, and a taller top
+        // shows farther out.
+        cv::Mat iceTop = map.thickness.clone();
+        iceTop.setTo(0.0, (map.inside == 0) | (iceTop != iceTop));
+        cv::dilate(iceTop, iceTop, cv::getStructuringElement(cv::MORPH_RECT, {2 * gapNodes + 5, 2 * gapNodes + 5}));
+        iceTop = cv::max(iceTop, cv::max(edge, 0.0));
+        iceTop += map.baselineHeight;
+        const cv::Mat hiddenNodes = hiddenOnGrid(hidden.pixels, grid, plane, iceTop, hidden.toBaseline, k) & bare;
+        cv::Mat tapered(grid.nv, grid.nu, CV_64F, cv::Scalar(kNaN));
+        // Next to the outline the background is not compared where the baseline showed the object
+        // (its outline grown by 2 px, and moved): about the ring's own gap and those 2 px.
+        const int hiddenGapNodes = gapNodes + 2;
+        const cv::Mat measured = map.beyond & (rise == rise);  // NaN != NaN
+        // Where the baseline saw no surface a rise has no footing but the outline's nearest
+        // measured surface, some way up a rounded edge: the ice's height on the outline and the
+        // background it hides say more. Over a surface the baseline saw, the rise is measured.
+        const cv::Mat seenUnder = measured & ~bare;
+        map.tapered = taperedIce(hiddenNodes | measured, map.inside, edge, minRiseMm, hiddenGapNodes, tapered) & ~seenUnder;
+        tapered.copyTo(map.thickness, map.tapered);
+        map.beyond |= map.tapered;
+        map.taperedNodes = cv::countNonZero(map.tapered);
+    }
     map.onIce.setTo(255, map.beyond);
     map.beyondNodes = cv::countNonZero(map.beyond);
     map.iceNodes += map.beyondNodes;

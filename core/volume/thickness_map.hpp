@@ -5,6 +5,7 @@
 #include "core/volume/height_grid.hpp"
 #include "core/volume/parameters.hpp"
 #include "core/volume/plane_clouds.hpp"
+#include "core/volume/silhouette.hpp"
 
 namespace icewatch::volume {
 
@@ -16,7 +17,8 @@ struct ThicknessMap {
     cv::Mat inside;          // CV_8U per node: within the region's outline
     cv::Mat onIce;           // CV_8U per node: within the ice mask, or ice beyond the outline
     cv::Mat beyond;          // CV_8U per node: ice standing out of the outline (beyond_outline.hpp)
-    int insideNodes = 0, iceNodes = 0, beyondNodes = 0;
+    cv::Mat tapered;         // CV_8U per node: the part of `beyond` seen only by the background it hides
+    int insideNodes = 0, iceNodes = 0, beyondNodes = 0, taperedNodes = 0;
     int filledNodes = 0;     // ice nodes without a measurement, filled from the nearest
 };
 
@@ -32,8 +34,12 @@ struct ThicknessMap {
 // it, the matcher's fringe) or, where it saw sky, from the surface the ice grows from, the
 // outline's nearest (baselineHeight, filled); it counts where iceBeyondOutline finds ice rising
 // outline_ice_min_mm and four times the noise of the rise where both captures saw a surface.
+// Where the baseline saw no surface and the current capture hides the background (`hidden`,
+// silhouette.hpp), the ice is tapered from the outline's (taperedIce) rather than measured from a
+// footing nobody saw.
 ThicknessMap thicknessMap(const PlaneClouds& clouds, const cv::Mat& roi, const cv::Mat& ring, const cv::Mat& possibleIce,
-                          const PlaneFrame& plane, const cv::Matx33d& k, const Parameters& parameters);
+                          const PlaneFrame& plane, const cv::Matx33d& k, const Parameters& parameters,
+                          const HiddenBackground& hidden = {});
 
 // For people: a grid map (NaN where none) where it lies in the current left image, inside
 // `outline`. Each pixel's ray, moved into the baseline's frame, meets the baseline's plane at the

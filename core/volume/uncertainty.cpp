@@ -114,7 +114,17 @@ UncertaintyBudget volumeUncertainty(const ThicknessMap& map, const PlaneFrame& p
     // on the outline (a bead of a few pixels; anything from none to all of it, 1/sqrt(3)).
     const double blindMm = (p.edgeMarginPx + kRingPatchRadiusPx) * pixelMm;
     const double unseenMm3 = blindMm * outlineIceIntegral(map) / std::sqrt(3.0);
-    b.outlineMm3 = std::hypot(footingMm3, unseenMm3);
+    // Ice seen only by the background it hides is tapered from the outline's height to nothing as a
+    // rounded bead (2/3 of height times width); a wedge (1/2) and a block (1) bound it, uniformly.
+    double taperedMm3 = 0;
+    if (map.taperedNodes > 0) {
+        for (int j = 0; j < map.grid.nv; ++j)
+            for (int i = 0; i < map.grid.nu; ++i)
+                if (map.tapered.at<std::uint8_t>(j, i)) taperedMm3 += map.thickness.at<double>(j, i);
+        taperedMm3 *= map.grid.areaPerNodeMm2();
+    }
+    const double shapeMm3 = taperedMm3 * (0.5 / std::sqrt(12.0)) / (2.0 / 3.0);
+    b.outlineMm3 = std::sqrt(footingMm3 * footingMm3 + unseenMm3 * unseenMm3 + shapeMm3 * shapeMm3);
     return b;
 }
 

@@ -101,5 +101,35 @@ TEST(BeyondOutline, IceTouchesTheObjectRisesAboveTheNoiseAndIsTakenDownToItsFoot
     EXPECT_EQ(cv::countNonZero(ice & inside), 0);
 }
 
+// A bead seen only by the sky it hides: 8 nodes in front of the region's 10 rows, 3 of them next
+// to the outline where the sky could not be compared, with 6 mm of ice on the outline. Its
+// thickness falls from the outline's to nothing at its silhouette as a rounded bead's, 2/3 of
+// height times width; a cloud behind the clean part of the edge is no ice, nor a bird off it.
+TEST(BeyondOutline, IceSeenByTheBackgroundItHidesIsTaperedFromTheOutlinesHeight) {
+    cv::Mat inside = cv::Mat::zeros(40, 60, CV_8U);
+    inside.rowRange(20, 30).setTo(255);
+    cv::Mat hidden = cv::Mat::zeros(40, 60, CV_8U);
+    hidden(cv::Rect(10, 12, 20, 5)).setTo(255);  // rows 12-16: the bead beyond the 3-row gap
+    hidden(cv::Rect(40, 16, 10, 4)).setTo(255);  // a cloud behind the clean edge
+    hidden(cv::Rect(40, 2, 5, 3)).setTo(255);    // a bird
+    cv::Mat edge(40, 60, CV_64F, cv::Scalar(0.2));
+    edge.colRange(0, 35).setTo(6.0);
+    cv::Mat thickness(40, 60, CV_64F, cv::Scalar(kNaN));
+    const cv::Mat ice = taperedIce(hidden, inside, edge, 2.0, 3, thickness);
+    EXPECT_EQ(cv::countNonZero(ice & inside), 0);
+    EXPECT_EQ(cv::countNonZero(ice.colRange(35, 60)), 0);
+    EXPECT_TRUE(ice.at<std::uint8_t>(19, 20));  // in the gap next to the outline
+    EXPECT_TRUE(ice.at<std::uint8_t>(12, 20));
+    EXPECT_FALSE(ice.at<std::uint8_t>(11, 20));
+    // Highest next to the outline, falling towards the silhouette.
+    EXPECT_NEAR(thickness.at<double>(19, 20), 6.0, 0.2);
+    EXPECT_GT(thickness.at<double>(16, 20), thickness.at<double>(13, 20));
+    EXPECT_LT(thickness.at<double>(12, 20), 1.5);
+    double column = 0;
+    for (int j = 0; j < 20; ++j)
+        if (ice.at<std::uint8_t>(j, 20)) column += thickness.at<double>(j, 20);
+    EXPECT_NEAR(column, 2.0 / 3.0 * 6.0 * 8.0, 3.0);
+}
+
 }  // namespace
 }  // namespace icewatch::volume

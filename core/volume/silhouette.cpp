@@ -1,0 +1,67 @@
+// Ice standing out of the outline, seen by what it hides (silhouette.hpp).
+#include "core/volume/silhouette.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace icewatch::volume {
+
+namespace {
+
+// 1.4826 times the median absolute value: the spread of differences centred on none.
+double robustSpread(std::vector<float> values) {
+    if (values.empty()) return 0.0;
+    for (float& v : values) v = std::abs(v);
+    auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+    std::nth_element(values.begin(), middle, values.end());
+    return 1.4826 * *middle;
+}
+
+}  // namespace
+
+cv::Mat backgroundHidden(const cv::Mat& baselineGrey, const cv::Mat& currentGrey, const cv::Mat& where,
+                         double lightRatio, double minGrey) {
+    CV_Assert(baselineGrey.type() == CV_32FC1 && currentGrey.type() == CV_32FC1 && where.type() == CV_8UC1);
+    CV_Assert(baselineGrey.size() == where.size() && currentGrey.size() == where.size());
+    cv::Mat difference(where.size(), CV_32F, cv::Scalar(0));
+    std::vector<float> differences;
+    for (int y = 0; y < where.rows; ++y) {
+        const auto* in = where.ptr<std::uint8_t>(y);
+        const auto* b = baselineGrey.ptr<float>(y);
+        const auto* c = currentGrey.ptr<float>(y);
+        auto* d = difference.ptr<float>(y);
+        for (int x = 0; x < where.cols; ++x) {
+            // A grey image is 0 outside the window it was matched in: no picture there to compare.
+            if (!in[x] || b[x] <= 0.0f || c[x] <= 0.0f) continue;
+            d[x] = c[x] - static_cast<float>(lightRatio) * b[x];
+            differences.push_back(d[x]);
+        }
+    }
+    const double threshold = std::max(minGrey, 4.0 * robustSpread(differences));
+    cv::Mat hidden = cv::abs(difference) > threshold;
+    hidden &= where;
+    return hidden;
+}
+
+cv::Mat hiddenOnGrid(const cv::Mat& hidden, const GridSpec& grid, const PlaneFrame& plane, const cv::Mat& heightMm,
+                     const RigidTransform& toBaseline, const cv::Matx33d& k) {
+    CV_Assert(hidden.type() == CV_8UC1 && heightMm.type() == CV_64FC1 && heightMm.rows == grid.nv && heightMm.cols == grid.nu);
+    cv::Mat onGrid = cv::Mat::zeros(grid.nv, grid.nu, CV_8U);
+    const cv::Matx33d back = toBaseline.rotation.t();
+    for (int j = 0; j < grid.nv; ++j)
+        for (int i = 0; i < grid.nu; ++i) {
+            const double h = heightMm.at<double>(j, i);
+            const cv::Vec3d inBaseline = plane.toCamera(grid.u0 + i * grid.du, grid.v0 + j * grid.dv, std::isnan(h) ? 0.0 : h);
+            const cv::Vec3d image = k * (back * (inBaseline - toBaseline.translation));
+            if (!(image[2] > 0)) continue;
+            const int x = static_cast<int>(std::lround(image[0] / image[2]));
+            const int y = static_cast<int>(std::lround(image[1] / image[2]));
+            if (x >= 0 && y >= 0 && x < hidden.cols && y < hidden.rows && hidden.at<std::uint8_t>(y, x)) {
+                onGrid.at<std::uint8_t>(j, i) = 255;
+            }
+        }
+    return onGrid;
+}
+
+}  // namespace icewatch::volume

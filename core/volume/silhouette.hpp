@@ -1,0 +1,37 @@
+#pragma once
+
+#include <opencv2/core.hpp>
+
+#include "core/volume/height_grid.hpp"
+#include "core/volume/registration.hpp"
+
+namespace icewatch::volume {
+
+// Ice standing out of the outline, seen by what it hides. Where the baseline saw no surface around
+// the object (a featureless sky), the stereo matcher cannot measure a narrow bead there: its
+// patches either find nothing to correlate or take the object's depth into the sky. But the
+// camera does not move, and the background it saw beside the outline looks, pixel for pixel, the
+// same in both captures unless something now stands in front of it: how far the ice reaches out
+// of the outline is read off the picture.
+
+// The background the current capture hides around the outline, and how the current capture's
+// frame maps onto the baseline's. Empty `pixels`: nothing was looked at.
+struct HiddenBackground {
+    cv::Mat pixels;  // CV_8U per current left pixel
+    RigidTransform toBaseline;
+};
+
+// The pixels of `where` (CV_8U, left frame) whose grey in the current capture differs from the
+// baseline's at the same pixel, scaled by the light's ratio between the captures (background_light.hpp),
+// by more than max(minGrey, four robust standard deviations of that difference over `where`, most
+// of which is background that did not change). CV_8U, 255 where the background is hidden.
+cv::Mat backgroundHidden(const cv::Mat& baselineGrey, const cv::Mat& currentGrey, const cv::Mat& where,
+                         double lightRatio, double minGrey);
+
+// What the background hidden in the current capture says of a grid on the baseline's plane: per
+// node (placed at `heightMm` above the plane, moved into the current capture by the inverse of
+// `toBaseline` and projected with `k`), whether its pixel in `hidden` is set. CV_8U.
+cv::Mat hiddenOnGrid(const cv::Mat& hidden, const GridSpec& grid, const PlaneFrame& plane, const cv::Mat& heightMm,
+                     const RigidTransform& toBaseline, const cv::Matx33d& k);
+
+}  // namespace icewatch::volume

@@ -1,0 +1,69 @@
+// Ice standing out of the outline, seen by the background it hides: which pixels changed against
+// the baseline's background, and where they lie on the plane's grid.
+#include "core/volume/silhouette.hpp"
+
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include <opencv2/imgproc.hpp>
+
+namespace icewatch::volume {
+namespace {
+
+// A sky with a gradient and its own noise in each capture, 10 % darker in the current one; the
+// current capture has a bead 5 grey levels brighter than the sky it hides. Only the bead is hidden
+// background: neither the light nor the noise is.
+TEST(Silhouette, TheBackgroundHiddenIsWhatChangedBeyondTheLightAndTheNoise) {
+    std::mt19937 random(7);
+    std::normal_distribution<float> noise(0.0f, 0.4f);
+    cv::Mat baseline(120, 200, CV_32F), current(120, 200, CV_32F);
+    for (int y = 0; y < 120; ++y)
+        for (int x = 0; x < 200; ++x) {
+            const float sky = 180.0f + 0.2f * static_cast<float>(y);
+            baseline.at<float>(y, x) = sky + noise(random);
+            const bool bead = y >= 50 && y < 56 && x >= 40 && x < 160;
+            current.at<float>(y, x) = 0.9f * sky + (bead ? 5.0f : 0.0f) + noise(random);
+        }
+    cv::Mat where = cv::Mat::zeros(120, 200, CV_8U);
+    where.rowRange(10, 60).setTo(255);
+    const cv::Mat hidden = backgroundHidden(baseline, current, where, 0.9, 3.0);
+    EXPECT_GT(cv::countNonZero(hidden(cv::Rect(40, 50, 120, 6))), 0.95 * 120 * 6);
+    EXPECT_LT(cv::countNonZero(hidden) - cv::countNonZero(hidden(cv::Rect(40, 50, 120, 6))), 10);
+    EXPECT_EQ(cv::countNonZero(hidden.rowRange(60, 120)), 0);  // not looked at
+    // A bead 1 grey level brighter than the sky, under the least change that counts, is not seen.
+    for (int y = 50; y < 56; ++y)
+        for (int x = 40; x < 160; ++x) current.at<float>(y, x) -= 4.0f;
+    EXPECT_LT(cv::countNonZero(backgroundHidden(baseline, current, where, 0.9, 3.0)), 10);
+}
+
+// A plane 1 m in front of the camera seen square on, grid nodes 1 mm apart: a node lies on the
+// pixel its point projects to, after the object's motion between the captures.
+TEST(Silhouette, HiddenPixelsLieOnTheNodesThatMovedOntoThem) {
+    const cv::Matx33d k(1000, 0, 100, 0, 1000, 100, 0, 0, 1);
+    PlaneFrame plane;
+    plane.origin = {0, 0, 1000};
+    plane.axisU = {1, 0, 0};
+    plane.axisV = {0, 1, 0};
+    plane.normal = {0, 0, -1};
+    GridSpec grid = makeGrid(-50, 50, -50, 50, 1.0);
+    cv::Mat hidden = cv::Mat::zeros(200, 200, CV_8U);
+    hidden.at<std::uint8_t>(110, 130) = 255;  // 30 px right, 10 px down of the centre
+    const cv::Mat height(grid.nv, grid.nu, CV_64F, cv::Scalar(0));
+    RigidTransform still;
+    cv::Mat onGrid = hiddenOnGrid(hidden, grid, plane, height, still, k);
+    ASSERT_EQ(cv::countNonZero(onGrid), 1);
+    const int i = static_cast<int>(std::lround((30 - grid.u0) / grid.du));
+    const int j = static_cast<int>(std::lround((10 - grid.v0) / grid.dv));
+    EXPECT_TRUE(onGrid.at<std::uint8_t>(j, i));
+    // The object moved 5 mm right (current = baseline + 5 mm): the node 5 mm to the left now
+    // shows on that pixel.
+    RigidTransform moved;
+    moved.translation = {-5, 0, 0};  // current onto baseline
+    onGrid = hiddenOnGrid(hidden, grid, plane, height, moved, k);
+    ASSERT_EQ(cv::countNonZero(onGrid), 1);
+    EXPECT_TRUE(onGrid.at<std::uint8_t>(j, i - static_cast<int>(std::lround(5 / grid.du))));
+}
+
+}  // namespace
+}  // namespace icewatch::volume
