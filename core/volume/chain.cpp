@@ -446,7 +446,7 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
         cv::dilate(baseline.roi, baselineObject, cv::getStructuringElement(cv::MORPH_ELLIPSE, {5, 5}));
         where.setTo(0, baselineObject);
         hidden = {backgroundHidden(baseline.leftGrey, current.leftGrey, where, *lightRatio, p.outlineMinContrastGrey),
-                  transform};
+                  transform, featurelessBackground(baseline.leftGrey, baselineObject, p.outlineMinTextureGrey)};
     }
     const PlaneClouds clouds =
         planeClouds(model->cloud, model->ring, points(current), currentOutline, currentRing, plane, transform, p);

@@ -5,6 +5,10 @@
 #include <cmath>
 #include <vector>
 
+#include <opencv2/imgproc.hpp>
+
+#include "core/volume/patch_tracker.hpp"
+
 namespace icewatch::volume {
 
 namespace {
@@ -42,6 +46,39 @@ cv::Mat backgroundHidden(const cv::Mat& baselineGrey, const cv::Mat& currentGrey
     cv::Mat hidden = cv::abs(difference) > threshold;
     hidden &= where;
     return hidden;
+}
+
+cv::Mat featurelessBackground(const cv::Mat& grey, const cv::Mat& object, double minTextureGrey) {
+    CV_Assert(grey.type() == CV_32FC1 && object.type() == CV_8UC1 && grey.size() == object.size());
+    // Sums over the window of the background's pixels only: a window astride the outline reads the
+    // object's edge, not the background's texture.
+    // Smoothed as the trackers' images are (measurableRing's texture test reads those): the
+    // sensor's noise left in an average is no texture.
+    cv::Mat smooth, background, values, squares;
+    cv::GaussianBlur(grey, smooth, {0, 0}, kTrackingSmoothingPx, kTrackingSmoothingPx, cv::BORDER_REFLECT);
+    cv::Mat(object == 0).convertTo(background, CV_32F, 1.0 / 255.0);
+    values = smooth.mul(background);
+    squares = values.mul(smooth);
+    const cv::Size window(9, 9);
+    cv::boxFilter(background, background, -1, window, {-1, -1}, false);
+    cv::boxFilter(values, values, -1, window, {-1, -1}, false);
+    cv::boxFilter(squares, squares, -1, window, {-1, -1}, false);
+    cv::Mat featureless = cv::Mat::zeros(grey.size(), CV_8U);
+    const float minCount = 81.0f / 3.0f;
+    for (int y = 0; y < grey.rows; ++y) {
+        const auto* n = background.ptr<float>(y);
+        const auto* s1 = values.ptr<float>(y);
+        const auto* s2 = squares.ptr<float>(y);
+        const auto* inObject = object.ptr<std::uint8_t>(y);
+        auto* out = featureless.ptr<std::uint8_t>(y);
+        for (int x = 0; x < grey.cols; ++x) {
+            if (inObject[x] || n[x] < minCount) continue;
+            const double mean = s1[x] / n[x];
+            const double variance = std::max(0.0, s2[x] / n[x] - mean * mean);
+            if (std::sqrt(variance) < minTextureGrey) out[x] = 255;
+        }
+    }
+    return featureless;
 }
 
 cv::Mat hiddenOnGrid(const cv::Mat& hidden, const GridSpec& grid, const PlaneFrame& plane, const cv::Mat& heightMm,

@@ -17,9 +17,16 @@ namespace icewatch::volume {
 // The background the current capture hides around the outline, and how the current capture's
 // frame maps onto the baseline's. Empty `pixels`: nothing was looked at.
 struct HiddenBackground {
-    cv::Mat pixels;  // CV_8U per current left pixel
+    cv::Mat pixels;       // CV_8U per current left pixel
     RigidTransform toBaseline;
+    cv::Mat featureless;  // CV_8U per baseline left pixel: featureless background (featurelessBackground)
 };
+
+// Where the baseline saw featureless background beside the object (a sky, not a table): the
+// pixels outside `object` (CV_8U) whose 9 x 9 neighbourhood, its background pixels alone, varies by
+// less than minTextureGrey (standard deviation, on the image smoothed as the trackers' are). There the stereo matcher measures nothing, and
+// the background hidden is the only sign of ice standing there. CV_8U, 255.
+cv::Mat featurelessBackground(const cv::Mat& grey, const cv::Mat& object, double minTextureGrey);
 
 // The pixels of `where` (CV_8U, left frame) whose grey in the current capture differs from the
 // baseline's at the same pixel, scaled by the light's ratio between the captures (background_light.hpp),

@@ -64,7 +64,7 @@ ThicknessMap thicknessMap(const PlaneClouds& clouds, const cv::Mat& roi, const c
     const cv::Mat currentRingHeight =
         anyRing && !clouds.currentRing.empty() ? interpolateLattice(clouds.currentRing, grid, steps) : none;
     cv::Mat rise(grid.nv, grid.nu, CV_64F, cv::Scalar(kNaN));
-    cv::Mat bare(grid.nv, grid.nu, CV_8U, cv::Scalar(0));  // outside the region, no surface seen by the baseline
+    cv::Mat bare(grid.nv, grid.nu, CV_8U, cv::Scalar(0));  // outside the region, featureless background in the baseline
     std::vector<double> seenRises;
     map.baselineHeight = baselineHeight.clone();
     fillFromNearest(map.baselineHeight, cv::Mat(grid.nv, grid.nu, CV_8U, cv::Scalar(255)));
@@ -79,20 +79,17 @@ ThicknessMap thicknessMap(const PlaneClouds& clouds, const cv::Mat& roi, const c
             const int x = static_cast<int>(std::lround(image[0] / image[2]));
             const int y = static_cast<int>(std::lround(image[1] / image[2]));
             if (x < 0 || y < 0 || x >= roi.cols || y >= roi.rows) continue;
+            if (!hidden.featureless.empty() && hidden.featureless.at<std::uint8_t>(y, x)) bare.at<std::uint8_t>(j, i) = 255;
             if (ring.at<std::uint8_t>(y, x)) {
                 // From what the baseline saw there (a table, more of a plate than the outline
                 // drawn on it, the matcher's fringe), or from the outline's nearest surface where
                 // it saw sky.
                 const double seen = ringHeight.at<double>(j, i);
-                if (std::isnan(seen)) bare.at<std::uint8_t>(j, i) = 255;
                 rise.at<double>(j, i) = currentRingHeight.at<double>(j, i) - (std::isnan(seen) ? h : seen);
                 if (!std::isnan(seen) && !std::isnan(rise.at<double>(j, i))) seenRises.push_back(rise.at<double>(j, i));
                 continue;
             }
-            if (!roi.at<std::uint8_t>(y, x)) {
-                bare.at<std::uint8_t>(j, i) = 255;
-                continue;
-            }
+            if (!roi.at<std::uint8_t>(y, x)) continue;
             map.inside.at<std::uint8_t>(j, i) = 255;
             ++map.insideNodes;
             if (!possibleIce.at<std::uint8_t>(y, x)) {
@@ -133,9 +130,9 @@ ThicknessMap thicknessMap(const PlaneClouds& clouds, const cv::Mat& roi, const c
         // (its outline grown by 2 px, and moved): about the ring's own gap and those 2 px.
         const int hiddenGapNodes = gapNodes + 2;
         const cv::Mat measured = map.beyond & (rise == rise);  // NaN != NaN
-        // Where the baseline saw no surface a rise has no footing but the outline's nearest
-        // measured surface, some way up a rounded edge: the ice's height on the outline and the
-        // background it hides say more. Over a surface the baseline saw, the rise is measured.
+        // Over featureless background a rise has no footing but the outline's nearest measured
+        // surface, some way up a rounded edge: the ice's height on the outline and the background
+        // it hides say more. Over a textured one (a table) the rise is measured from it.
         const cv::Mat seenUnder = measured & ~bare;
         map.tapered = taperedIce(hiddenNodes | measured, map.inside, edge, minRiseMm, hiddenGapNodes, tapered) & ~seenUnder;
         tapered.copyTo(map.thickness, map.tapered);

@@ -2,6 +2,7 @@
 // the baseline's background, and where they lie on the plane's grid.
 #include "core/volume/silhouette.hpp"
 
+#include <cmath>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -35,6 +36,28 @@ TEST(Silhouette, TheBackgroundHiddenIsWhatChangedBeyondTheLightAndTheNoise) {
     for (int y = 50; y < 56; ++y)
         for (int x = 40; x < 160; ++x) current.at<float>(y, x) -= 4.0f;
     EXPECT_LT(cv::countNonZero(backgroundHidden(baseline, current, where, 0.9, 3.0)), 10);
+}
+
+// A dark object on a sky with a gradient and a little noise, beside a grained table: the sky is
+// featureless up to the object's edge (the window leaves the object out), the table is not.
+TEST(Silhouette, FeaturelessBackgroundIsTheSkyNotTheTableNorTheObject) {
+    std::mt19937 random(3);
+    std::normal_distribution<float> noise(0.0f, 0.4f);
+    cv::Mat grey(100, 200, CV_32F);
+    for (int y = 0; y < 100; ++y)
+        for (int x = 0; x < 200; ++x) {
+            const float table = 120.0f + 15.0f * static_cast<float>(std::sin(0.9 * x + 0.3 * y));
+            grey.at<float>(y, x) = (x < 100 ? 200.0f + 0.1f * static_cast<float>(y) : table) + noise(random);
+        }
+    grey(cv::Rect(30, 40, 40, 20)).setTo(60.0f);
+    cv::Mat object = cv::Mat::zeros(100, 200, CV_8U);  // the object grown by 2 px, as the chain gives it
+    object(cv::Rect(28, 38, 44, 24)).setTo(255);
+    const cv::Mat featureless = featurelessBackground(grey, object, 1.0);
+    EXPECT_TRUE(featureless.at<std::uint8_t>(10, 50));
+    EXPECT_TRUE(featureless.at<std::uint8_t>(37, 50));   // 3 px from the object's edge
+    EXPECT_FALSE(featureless.at<std::uint8_t>(50, 50));  // the object itself
+    EXPECT_FALSE(featureless.at<std::uint8_t>(50, 150)); // the table
+    EXPECT_EQ(cv::countNonZero(featureless.colRange(110, 200)), 0);
 }
 
 // A plane 1 m in front of the camera seen square on, grid nodes 1 mm apart: a node lies on the
