@@ -134,7 +134,12 @@ ThicknessMap thicknessMap(const PlaneClouds& clouds, const cv::Mat& roi, const c
         // surface, some way up a rounded edge: the ice's height on the outline and the background
         // it hides say more. Over a textured one (a table) the rise is measured from it.
         const cv::Mat seenUnder = measured & ~bare;
-        map.tapered = taperedIce(hiddenNodes | measured, map.inside, edge, minRiseMm, hiddenGapNodes, tapered) & ~seenUnder;
+        // The background's first pixels next to the outline are the object's (grown, as the
+        // window leaves it out): bare there when bare beyond them.
+        cv::Mat nearBare;
+        cv::dilate(bare, nearBare, cv::getStructuringElement(cv::MORPH_RECT, {2 * hiddenGapNodes + 1, 2 * hiddenGapNodes + 1}));
+        map.tapered = taperedIce(hiddenNodes | measured, map.inside, edge, minRiseMm, hiddenGapNodes, tapered) & nearBare &
+                      ~seenUnder;
         tapered.copyTo(map.thickness, map.tapered);
         map.beyond |= map.tapered;
         map.taperedNodes = cv::countNonZero(map.tapered);
