@@ -46,6 +46,45 @@ GridSpec regionGrid(const cv::Mat& roi, const PlaneFrame& plane, const cv::Matx3
     return makeGrid(uMin, uMax, vMin, vMax, cellMm);
 }
 
+// Where the baseline saw featureless background (`bare`) and the current capture hides it: the ice
+// tapered from the outline's (taperedIce), into map.thickness, map.beyond and map.tapered.
+void addTaperedIce(ThicknessMap& map, const cv::Mat& rise, const cv::Mat& bare, const HiddenBackground& hidden,
+                   const PlaneFrame& plane, const cv::Matx33d& k, double minRiseMm, int gapNodes) {
+    const GridSpec& grid = map.grid;
+    // As high on the outline as the ice on the region's nearest nodes, averaged over a few.
+    cv::Mat edge = map.thickness.clone();
+    edge.setTo(kNaN, map.inside == 0);
+    edge = finiteBoxMean(edge, 2);
+    fillFromNearest(edge, cv::Mat(grid.nv, grid.nu, CV_8U, cv::Scalar(255)));
+    // A node is looked for at the height of the ice on the outline above it: ice on the outline
+    // seen obliquely hides the background beyond it without standing there, and a taller top
+    // shows farther out.
+    cv::Mat iceTop = map.thickness.clone();
+    iceTop.setTo(0.0, (map.inside == 0) | (iceTop != iceTop));
+    cv::dilate(iceTop, iceTop, cv::getStructuringElement(cv::MORPH_RECT, {2 * gapNodes + 5, 2 * gapNodes + 5}));
+    iceTop = cv::max(iceTop, cv::max(edge, 0.0));
+    iceTop += map.baselineHeight;
+    const cv::Mat hiddenNodes = hiddenOnGrid(hidden.pixels, grid, plane, iceTop, hidden.toBaseline, k) & bare;
+    // Next to the outline the background is not compared where the baseline showed the object
+    // (its outline grown by 2 px, and moved): about the ring's own gap and those 2 px.
+    const int hiddenGapNodes = gapNodes + 2;
+    const cv::Mat measured = map.beyond & (rise == rise);  // NaN != NaN
+    // Over featureless background a rise has no footing but the outline's nearest measured
+    // surface, some way up a rounded edge: the ice's height on the outline and the background it
+    // hides say more. Over a textured one (a table) the rise is measured from it.
+    const cv::Mat seenUnder = measured & ~bare;
+    // The background's first pixels next to the outline are the object's (grown, as the window
+    // leaves it out): bare there when bare beyond them.
+    cv::Mat nearBare;
+    cv::dilate(bare, nearBare, cv::getStructuringElement(cv::MORPH_RECT, {2 * hiddenGapNodes + 1, 2 * hiddenGapNodes + 1}));
+    cv::Mat tapered(grid.nv, grid.nu, CV_64F, cv::Scalar(kNaN));
+    map.tapered =
+        taperedIce(hiddenNodes | measured, map.inside, edge, minRiseMm, hiddenGapNodes, tapered) & nearBare & ~seenUnder;
+    tapered.copyTo(map.thickness, map.tapered);
+    map.beyond |= map.tapered;
+    map.taperedNodes = cv::countNonZero(map.tapered);
+}
+
 }  // namespace
 
 ThicknessMap thicknessMap(const PlaneClouds& clouds, const cv::Mat& roi, const cv::Mat& ring, const cv::Mat& possibleIce,
@@ -110,40 +149,7 @@ ThicknessMap thicknessMap(const PlaneClouds& clouds, const cv::Mat& roi, const c
     const int gapNodes = static_cast<int>(std::ceil(p.edgeMarginPx * pixelMm / std::min(grid.du, grid.dv)));
     map.beyond = iceBeyondOutline(rise, map.inside, minRiseMm, gapNodes, noiseMm);
     rise.copyTo(map.thickness, map.beyond);
-    if (!hidden.pixels.empty()) {
-        // As high on the outline as the ice on the region's nearest nodes, averaged over a few.
-        cv::Mat edge = map.thickness.clone();
-        edge.setTo(kNaN, map.inside == 0);
-        edge = finiteBoxMean(edge, 2);
-        fillFromNearest(edge, cv::Mat(grid.nv, grid.nu, CV_8U, cv::Scalar(255)));
-        // A node is looked for at the height of the ice on the outline above it: ice on the outline
-        // seen obliquely hides the background beyond it without standing there, and a taller top
-        // shows farther out.
-        cv::Mat iceTop = map.thickness.clone();
-        iceTop.setTo(0.0, (map.inside == 0) | (iceTop != iceTop));
-        cv::dilate(iceTop, iceTop, cv::getStructuringElement(cv::MORPH_RECT, {2 * gapNodes + 5, 2 * gapNodes + 5}));
-        iceTop = cv::max(iceTop, cv::max(edge, 0.0));
-        iceTop += map.baselineHeight;
-        const cv::Mat hiddenNodes = hiddenOnGrid(hidden.pixels, grid, plane, iceTop, hidden.toBaseline, k) & bare;
-        cv::Mat tapered(grid.nv, grid.nu, CV_64F, cv::Scalar(kNaN));
-        // Next to the outline the background is not compared where the baseline showed the object
-        // (its outline grown by 2 px, and moved): about the ring's own gap and those 2 px.
-        const int hiddenGapNodes = gapNodes + 2;
-        const cv::Mat measured = map.beyond & (rise == rise);  // NaN != NaN
-        // Over featureless background a rise has no footing but the outline's nearest measured
-        // surface, some way up a rounded edge: the ice's height on the outline and the background
-        // it hides say more. Over a textured one (a table) the rise is measured from it.
-        const cv::Mat seenUnder = measured & ~bare;
-        // The background's first pixels next to the outline are the object's (grown, as the
-        // window leaves it out): bare there when bare beyond them.
-        cv::Mat nearBare;
-        cv::dilate(bare, nearBare, cv::getStructuringElement(cv::MORPH_RECT, {2 * hiddenGapNodes + 1, 2 * hiddenGapNodes + 1}));
-        map.tapered = taperedIce(hiddenNodes | measured, map.inside, edge, minRiseMm, hiddenGapNodes, tapered) & nearBare &
-                      ~seenUnder;
-        tapered.copyTo(map.thickness, map.tapered);
-        map.beyond |= map.tapered;
-        map.taperedNodes = cv::countNonZero(map.tapered);
-    }
+    if (!hidden.pixels.empty()) addTaperedIce(map, rise, bare, hidden, plane, k, minRiseMm, gapNodes);
     map.onIce.setTo(255, map.beyond);
     map.beyondNodes = cv::countNonZero(map.beyond);
     map.iceNodes += map.beyondNodes;
