@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/volume/beyond_outline.hpp"
+#include "core/volume/silhouette.hpp"
 
 namespace icewatch::volume {
 
@@ -19,7 +20,7 @@ TextureTrackOptions textureTrackOptions(const Parameters& p) {
 }
 
 BaselineModel buildBaselineModel(const cv::Mat& roi, const cv::Mat& points, const RectifiedCapture& capture,
-                                 double focalPx, const Parameters& p) {
+                                 const cv::Mat& leftGrey, double focalPx, const Parameters& p) {
     CV_Assert(roi.type() == CV_8UC1 && points.type() == CV_32FC3 && roi.size() == points.size());
     BaselineModel model;
     // Depths mix at the outline: its margin does not count.
@@ -40,6 +41,8 @@ BaselineModel buildBaselineModel(const cv::Mat& roi, const cv::Mat& points, cons
     model.ringPx = outlineGrowthPx(p, focalPx, model.plane.origin[2]);
     model.ringMask = outlineRing(roi, model.ringPx, p.edgeMarginPx);
     model.ring = baselineCloud(points, measurableRing(capture, model.ringMask, p), model.plane, p);
+    cv::dilate(roi, model.objectGrown, cv::getStructuringElement(cv::MORPH_ELLIPSE, {5, 5}));
+    model.featureless = featurelessBackground(leftGrey, model.objectGrown, p.outlineMinTextureGrey);
     return model;
 }
 

@@ -25,12 +25,17 @@ struct BaselineModel {
     int ringPx = 0;
     cv::Mat ringMask;  // CV_8U: the ring itself, from edge_margin_px to ringPx outside the region
     BaselineCloud ring;
+    // What the current capture's background is compared against (silhouette.hpp): the region grown
+    // by 2 px, which the comparisons leave out, and the featureless background beside it.
+    cv::Mat objectGrown;
+    cv::Mat featureless;
 };
 
 // `roi`: the region (CV_8U); `points`: the baseline's points (CV_32FC3, NaN where none);
-// `capture`: its tracking images and disparity; `focalPx`: the rectified focal length.
+// `capture`: its tracking images and disparity; `leftGrey`: its left image (CV_32F, frame-sized);
+// `focalPx`: the rectified focal length.
 BaselineModel buildBaselineModel(const cv::Mat& roi, const cv::Mat& points, const RectifiedCapture& capture,
-                                 double focalPx, const Parameters& parameters);
+                                 const cv::Mat& leftGrey, double focalPx, const Parameters& parameters);
 
 // The texture trackers' options from the volume parameters.
 TextureTrackOptions textureTrackOptions(const Parameters& parameters);

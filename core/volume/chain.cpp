@@ -325,7 +325,7 @@ MatchRegion VolumeChain::Impl::coarseRegion(const StereoPair& raw) {
 
 std::shared_ptr<const BaselineModel> VolumeChain::Impl::baselineModel(const Surface& s, const cv::Mat& points) const {
     return std::make_shared<const BaselineModel>(
-        buildBaselineModel(s.roi, points, {s.trackLeft, s.trackRight, s.disparity}, focalPx, parameters));
+        buildBaselineModel(s.roi, points, {s.trackLeft, s.trackRight, s.disparity}, s.leftGrey, focalPx, parameters));
 }
 
 MatchRegion VolumeChain::Impl::followUpRegion(const Surface& s) const {
@@ -442,11 +442,9 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     HiddenBackground hidden;
     if (lightRatio && model->ringPx > 0) {
         cv::Mat where = outlineRing(objectInCurrent, model->ringPx, p.edgeMarginPx);
-        cv::Mat baselineObject;
-        cv::dilate(baseline.roi, baselineObject, cv::getStructuringElement(cv::MORPH_ELLIPSE, {5, 5}));
-        where.setTo(0, baselineObject);
+        where.setTo(0, model->objectGrown);
         hidden = {backgroundHidden(baseline.leftGrey, current.leftGrey, where, *lightRatio, p.outlineMinContrastGrey),
-                  transform, featurelessBackground(baseline.leftGrey, baselineObject, p.outlineMinTextureGrey)};
+                  transform, model->featureless};
     }
     const PlaneClouds clouds =
         planeClouds(model->cloud, model->ring, points(current), currentOutline, currentRing, plane, transform, p);
