@@ -58,7 +58,9 @@ Mesh withoutBareTriangles(Mesh mesh) {
     return mesh;
 }
 
-Geometry bladeGeometry(const SceneSpec& spec, const Pose& before, const Pose& after, const Look& look) {
+// `look` lights the baseline, `afterLook` the current capture (the light may have turned between them).
+Geometry bladeGeometry(const SceneSpec& spec, const Pose& before, const Pose& after, const Look& look,
+                       const Look& afterLook) {
     GridSurface surface = bladeSurface(spec.ice, spec.seed);
     GridSurface front = beadFront(spec.ice, spec.seed);  // empty but for a bead
     if (front.nu > 0) {
@@ -78,27 +80,30 @@ Geometry bladeGeometry(const SceneSpec& spec, const Pose& before, const Pose& af
     g.iceVolumeMm3 = iceVolumeMm3(surface) + iceVolumeMm3(front);
     g.maxIceThicknessMm = *std::max_element(surface.ice.begin(), surface.ice.end());
     g.before.push_back(bladeMesh(surface, 0.0, before, look));
-    g.after.push_back(bladeMesh(surface, 1.0, after, look));
-    if (front.nu > 0) g.after.push_back(withoutBareTriangles(bladeMesh(front, 1.0, after, look, kMaterialBeadFront)));
+    g.after.push_back(bladeMesh(surface, 1.0, after, afterLook));
+    if (front.nu > 0) {
+        g.after.push_back(withoutBareTriangles(bladeMesh(front, 1.0, after, afterLook, kMaterialBeadFront)));
+    }
     g.outline = bladeOutline(surface, before, 10);
     if (spec.background == Background::Table) {
         g.before.push_back(tableMesh(-kTableBelowBladeMm, before, look));
-        g.after.push_back(tableMesh(-kTableBelowBladeMm, after, look));
+        g.after.push_back(tableMesh(-kTableBelowBladeMm, after, afterLook));
     }
     return g;
 }
 
-Geometry blockGeometry(const SceneSpec& spec, const Pose& before, const Pose& after, const Look& look) {
+Geometry blockGeometry(const SceneSpec& spec, const Pose& before, const Pose& after, const Look& look,
+                       const Look& afterLook) {
     const double heightMm = spec.iceVolumeMm3 / (kBlockLengthMm * kBlockWidthMm);
     const bool onTable = spec.background == Background::Table;
     Geometry g;
     g.iceVolumeMm3 = heightMm * kBlockLengthMm * kBlockWidthMm;
     g.maxIceThicknessMm = heightMm;
     g.before = blockMeshes(0.0, onTable, before, look);
-    g.after = blockMeshes(heightMm, onTable, after, look);
+    g.after = blockMeshes(heightMm, onTable, after, afterLook);
     if (onTable) {
         g.before.push_back(tableMesh(-kPlateThicknessMm, before, look));
-        g.after.push_back(tableMesh(-kPlateThicknessMm, after, look));
+        g.after.push_back(tableMesh(-kPlateThicknessMm, after, afterLook));
     }
     const double hx = kPlateLengthMm / 2 - kPlateRoiInsetMm, hy = kPlateWidthMm / 2 - kPlateRoiInsetMm;
     for (const auto& corner : {cv::Vec2d(-hx, -hy), cv::Vec2d(hx, -hy), cv::Vec2d(hx, hy), cv::Vec2d(-hx, hy)}) {
@@ -133,6 +138,15 @@ void checkSpec(const SceneSpec& spec) {
     }
     if (!(spec.lightChange >= kMinLightChange && spec.lightChange <= kMaxLightChange)) {
         throw InvalidInput("synthetic scene: light change must be between 0.2 and 3");
+    }
+    if (!(std::abs(spec.rollDeg) <= kMaxRollDeg)) {
+        throw InvalidInput("synthetic scene: the object's roll must be between -45 and 45 degrees");
+    }
+    if (!(spec.distanceMm >= kMinDistanceMm && spec.distanceMm <= kMaxDistanceMm)) {
+        throw InvalidInput("synthetic scene: the object's distance must be between 600 and 1500 mm");
+    }
+    if (!(spec.lightTurnDeg >= 0 && spec.lightTurnDeg <= kMaxLightTurnDeg)) {
+        throw InvalidInput("synthetic scene: the light's turn must be between 0 and 60 degrees");
     }
     if (spec.kind == SceneKind::Block && spec.ice != IceKind::LeadingEdge) {
         throw InvalidInput("synthetic scene: the ice kind is the blade's; a block scene's ice is the block");
@@ -193,7 +207,9 @@ SyntheticScene renderScene(const SceneSpec& spec) {
 
     // Nearly fronto-parallel, tilted by a few degrees so the surface spans a range of disparities.
     const bool blade = spec.kind == SceneKind::Blade;
-    const Pose before{rotationFromDegrees({uniform(-3, 3), uniform(2, 5), uniform(-2, 2)}),
+    // The roll turns the object in the image (a blade parked at another angle), about the view axis.
+    const Pose before{rotationFromDegrees({0, 0, spec.rollDeg}) *
+                          rotationFromDegrees({uniform(-3, 3), uniform(2, 5), uniform(-2, 2)}),
                       {uniform(-10, 10), uniform(-10, 10), spec.distanceMm}};
     // The motion is drawn either way, so that a seed's pose, look and noise do not depend on it.
     const double maxShiftMm = blade ? 3.0 : 1.0, maxTurnDeg = blade ? 0.3 : 0.1;
@@ -206,11 +222,23 @@ SyntheticScene renderScene(const SceneSpec& spec) {
     const Pose after{rotationFromDegrees(scene.motion.rotationDeg) * before.rotation,
                      before.translation + scene.motion.translationMm};
 
-    const Geometry geometry = blade ? bladeGeometry(spec, before, after, scene.look)
-                                    : blockGeometry(spec, before, after, scene.look);
+    // The sun moved between the captures, across the sky and in height: its direction turned about
+    // an axis in the image plane halfway between the horizontal and the vertical, so the shading of
+    // a curved surface changes unevenly (a leading edge facing up otherwise than a flat middle).
+    Look afterLook = scene.look;
+    const double turn = spec.lightTurnDeg / std::sqrt(2.0);
+    afterLook.towardsLight = rotationFromDegrees({turn, turn, 0}) * scene.look.towardsLight;
+    const Geometry geometry = blade ? bladeGeometry(spec, before, after, scene.look, afterLook)
+                                    : blockGeometry(spec, before, after, scene.look, afterLook);
     scene.iceVolumeMm3 = geometry.iceVolumeMm3;
     scene.maxIceThicknessMm = geometry.maxIceThicknessMm;
     for (const cv::Vec3d& p : geometry.outline) scene.roi.push_back(projectLeft(scene.calibration, p));
+    const cv::Rect eyeRect{8, 8, eye.width - 16, eye.height - 16};
+    for (const cv::Point2d& p : scene.roi) {
+        if (!eyeRect.contains(cv::Point(cvRound(p.x), cvRound(p.y)))) {
+            throw InvalidInput("synthetic scene: the object does not fit in the left eye at this roll and distance");
+        }
+    }
 
     const Shading shading{scene.look, spec.ice, spec.seed};
     EyeTruth beforeTruth, afterTruth;

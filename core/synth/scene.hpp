@@ -53,6 +53,10 @@ std::string backgroundName(Background background);
 inline constexpr int kMaxFrames = 256;
 inline constexpr double kMinLightChange = 0.2;
 inline constexpr double kMaxLightChange = 3.0;
+inline constexpr double kMaxRollDeg = 45.0;
+inline constexpr double kMinDistanceMm = 600.0;
+inline constexpr double kMaxDistanceMm = 1500.0;
+inline constexpr double kMaxLightTurnDeg = 60.0;
 
 struct SceneSpec {
     SceneKind kind = SceneKind::Blade;
@@ -67,7 +71,9 @@ struct SceneSpec {
     MotionKind motion = MotionKind::Small;
     Background background = Background::Sky;
     double lightChange = 1.0;  // the current capture's illumination over the baseline's
+    double lightTurnDeg = 0.0; // the current capture's light direction turned by this (the sun moved)
     double distanceMm = 850.0;  // camera to object
+    double rollDeg = 0.0;       // the object turned by this about the view axis (in the image)
     double baselineMm = 60.0;
     double horizontalFovDeg = 80.0;
 };

@@ -84,6 +84,9 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
         std::string motion = "small";
         std::string background = "sky";
         double lightChange = 1.0;
+        double lightTurnDeg = 0.0;
+        double distanceMm = 850.0;
+        double rollDeg = 0.0;
         bool force = false;
         bool json = false;
     };
@@ -112,6 +115,16 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
     cmd->add_option("--light-change", o->lightChange,
                     "the current capture's illumination times this, 0.2..3 (saturates at white)")
         ->check(CLI::Range(synth::kMinLightChange, synth::kMaxLightChange));
+    cmd->add_option("--light-turn", o->lightTurnDeg,
+                    "the current capture's light direction turned by this many degrees (the sun moved across the sky "
+                    "and in height: a curved surface's shading changes unevenly), 0..60")
+        ->check(CLI::Range(0.0, synth::kMaxLightTurnDeg));
+    cmd->add_option("--distance-mm", o->distanceMm, "camera to object, 600..1500 mm")
+        ->check(CLI::Range(synth::kMinDistanceMm, synth::kMaxDistanceMm));
+    cmd->add_option("--roll", o->rollDeg,
+                    "the object turned about the view axis by this many degrees (a blade parked at another angle), "
+                    "-45..45; it must still fit in the frame")
+        ->check(CLI::Range(-synth::kMaxRollDeg, synth::kMaxRollDeg));
     cmd->add_option("--out", o->out, "scene directory to write")->required();
     addForceFlag(*cmd, o->force);
     cmd->add_flag("--json", o->json, "print what was written as one JSON object");
@@ -138,6 +151,9 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
             spec.motion = synth::parseMotionKind(o->motion);
             spec.background = synth::parseBackground(o->background);
             spec.lightChange = o->lightChange;
+            spec.lightTurnDeg = o->lightTurnDeg;
+            spec.distanceMm = o->distanceMm;
+            spec.rollDeg = o->rollDeg;
             Progress progress("synth");
             progress.show("rendering " + o->mode + " x " + std::to_string(spec.frames) + " frames");
             const synth::SyntheticScene scene = synth::renderScene(spec);

@@ -1,5 +1,7 @@
 // The renderer's variety: ice kinds, motion, background, light change and the seed's look, each
 // changing the truth exactly as the geometry says.
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 #include <opencv2/imgproc.hpp>
@@ -259,11 +261,60 @@ TEST(SynthLooks, SeedsLookDifferentWithinPlausibleRanges) {
     EXPECT_GT(std::abs(sdOne[0] - sdTwo[0]) / std::max(sdOne[0], sdTwo[0]), 0.1);
 }
 
+// The sun moved: the current capture's shading changes unevenly over the curved blade (its
+// leading edge turns another way than its flat middle), the baseline not at all, the ice not.
+TEST(SynthLooks, ALightTurnShadesTheCurrentCaptureUnevenly) {
+    SceneSpec spec = smallBlade(IceKind::LeadingEdge, MotionKind::None);
+    const SyntheticScene still = renderScene(spec);
+    spec.lightTurnDeg = 30;
+    const SyntheticScene turned = renderScene(spec);
+    EXPECT_EQ(cv::norm(still.before, turned.before, cv::NORM_INF), 0.0);
+    EXPECT_DOUBLE_EQ(turned.iceVolumeMm3, still.iceVolumeMm3);
+    // The horn along the leading edge faces another way than the blade's flat middle: its shading
+    // changes by another factor.
+    const cv::Mat before = leftGrey(still.after), after = leftGrey(turned.after);
+    cv::Mat object;
+    cv::erode(still.afterDisparity > 0, object, cv::Mat(), {-1, -1}, 3);
+    const cv::Mat horn = object & (still.afterIceMm > 3.0f), flat = object & (still.afterIceMm <= 0.0f);
+    const double hornChange = cv::mean(after, horn)[0] / cv::mean(before, horn)[0];
+    const double flatChange = cv::mean(after, flat)[0] / cv::mean(before, flat)[0];
+    EXPECT_GT(std::abs(hornChange - flatChange), 0.03);
+}
+
+// A roll turns the blade in the image about the view axis: the same ice, the outline slanted.
+TEST(SynthLooks, ARollTurnsTheBladeInTheImageWithTheSameIce) {
+    SceneSpec spec = smallBlade(IceKind::LeadingEdge);
+    const SyntheticScene level = renderScene(spec);
+    spec.rollDeg = 25;
+    const SyntheticScene rolled = renderScene(spec);
+    EXPECT_DOUBLE_EQ(rolled.iceVolumeMm3, level.iceVolumeMm3);
+    // The outline's long axis, from its second moments, turned by the roll.
+    auto axisDeg = [](const SyntheticScene& scene) {
+        const cv::Moments m = cv::moments(cv::Mat(scene.beforeDisparity > 0), true);
+        return 0.5 * std::atan2(2 * m.mu11, m.mu20 - m.mu02) * 180.0 / CV_PI;
+    };
+    EXPECT_NEAR(axisDeg(rolled) - axisDeg(level), 25.0, 3.0);
+    // Rolled so far, this close, that it leaves the frame; or rolled past the limit: refused.
+    spec.frameSize = {2560, 720};  // a 16:9 eye: the blade's length across it
+    spec.distanceMm = 600;
+    spec.rollDeg = 45;
+    EXPECT_THROW(renderScene(spec), InvalidInput);
+    spec.distanceMm = 850;
+    spec.rollDeg = 50;
+    EXPECT_THROW(renderScene(spec), InvalidInput);
+}
+
 TEST(SynthLooks, ImpossibleOptionsAreRefused) {
     SceneSpec spec = smallBlade(IceKind::LeadingEdge);
     spec.lightChange = 0.1;
     EXPECT_THROW(renderScene(spec), InvalidInput);
     spec.lightChange = 3.5;
+    EXPECT_THROW(renderScene(spec), InvalidInput);
+    spec.lightChange = 1.0;
+    spec.lightTurnDeg = 70;
+    EXPECT_THROW(renderScene(spec), InvalidInput);
+    spec.lightTurnDeg = 0;
+    spec.distanceMm = 2000;
     EXPECT_THROW(renderScene(spec), InvalidInput);
     spec = smallBlade(IceKind::Patches);
     spec.kind = SceneKind::Block;
