@@ -147,15 +147,18 @@ cv::Mat taperedIce(const cv::Mat& hidden, const cv::Mat& inside, const cv::Mat& 
     CV_Assert(hidden.type() == CV_8UC1 && inside.type() == CV_8UC1 && hidden.size() == inside.size());
     CV_Assert(edgeThicknessMm.type() == CV_64FC1 && edgeThicknessMm.size() == inside.size());
     CV_Assert(thickness.type() == CV_64FC1 && thickness.size() == inside.size());
-    // The nodes between the region and what hides the background, up to gapNodes wide, stand too.
-    cv::Mat closed = inside | hidden;
+    // The nodes between the region and what hides the background, up to gapNodes wide, stand too;
+    // but not the notches the closing fills in the region's own outline (a slanted outline is a
+    // staircase on the grid), where nothing hid the background: the region is closed alike first.
+    cv::Mat closed = inside | hidden, region = inside.clone();
     if (gapNodes > 0) {
-        cv::morphologyEx(closed, closed, cv::MORPH_CLOSE,
-                         cv::getStructuringElement(cv::MORPH_RECT, {2 * gapNodes + 1, 2 * gapNodes + 1}));
+        const cv::Mat square = cv::getStructuringElement(cv::MORPH_RECT, {2 * gapNodes + 1, 2 * gapNodes + 1});
+        cv::morphologyEx(closed, closed, cv::MORPH_CLOSE, square);
+        cv::morphologyEx(region, region, cv::MORPH_CLOSE, square);
     }
-    const cv::Mat candidate = closed & (inside == 0);
+    const cv::Mat candidate = closed & (region == 0);
     cv::Mat near;
-    cv::dilate(inside, near, cv::getStructuringElement(cv::MORPH_RECT, {3, 3}));
+    cv::dilate(region, near, cv::getStructuringElement(cv::MORPH_RECT, {3, 3}));
     cv::Mat labels;
     const int n = cv::connectedComponents(candidate, labels, 8, CV_32S);
     std::vector<std::uint8_t> touches(static_cast<std::size_t>(n), 0);
@@ -170,8 +173,8 @@ cv::Mat taperedIce(const cv::Mat& hidden, const cv::Mat& inside, const cv::Mat& 
     // Node distances to the region and to the background; the outline and the silhouette lie half
     // a node beyond the last node on either side.
     cv::Mat toRegion, toBackground;
-    cv::distanceTransform(inside == 0, toRegion, cv::DIST_L2, cv::DIST_MASK_PRECISE);
-    cv::distanceTransform(inside | standing, toBackground, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+    cv::distanceTransform(region == 0, toRegion, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+    cv::distanceTransform(region | standing, toBackground, cv::DIST_L2, cv::DIST_MASK_PRECISE);
     cv::Mat ice = cv::Mat::zeros(inside.size(), CV_8U);
     for (int j = 0; j < inside.rows; ++j)
         for (int i = 0; i < inside.cols; ++i) {

@@ -131,5 +131,29 @@ TEST(BeyondOutline, IceSeenByTheBackgroundItHidesIsTaperedFromTheOutlinesHeight)
     EXPECT_NEAR(column, 2.0 / 3.0 * 6.0 * 8.0, 3.0);
 }
 
+// A slanted outline is a staircase on the grid: closing the gap between the region and what hides
+// the background must not fill the staircase's own notches, where nothing hid anything.
+TEST(BeyondOutline, TheNotchesOfASlantedOutlineAreNotIce) {
+    cv::Mat inside = cv::Mat::zeros(60, 120, CV_8U);
+    for (int i = 0; i < 120; ++i) {
+        // Steps of 6 nodes, 2 nodes high, with a tooth in each: the region sampled off a raster.
+        const int top = 20 + 2 * (i / 6) / 4 + ((i % 6) == 2 ? -2 : 0);
+        inside(cv::Range(top, 50), cv::Range(i, i + 1)).setTo(255);
+    }
+    const cv::Mat edge(60, 120, CV_64F, cv::Scalar(10.0));
+    cv::Mat thickness(60, 120, CV_64F, cv::Scalar(kNaN));
+    const cv::Mat nothing = cv::Mat::zeros(60, 120, CV_8U);
+    EXPECT_EQ(cv::countNonZero(taperedIce(nothing, inside, edge, 2.0, 5, thickness)), 0);
+    // A bead hiding the background beyond the gap still stands, and the nodes between it and the
+    // region with it.
+    cv::Mat hidden = cv::Mat::zeros(60, 120, CV_8U);
+    hidden(cv::Rect(40, 8, 30, 5)).setTo(255);
+    const cv::Mat ice = taperedIce(hidden, inside, edge, 2.0, 5, thickness);
+    EXPECT_TRUE(ice.at<std::uint8_t>(10, 55));
+    EXPECT_TRUE(ice.at<std::uint8_t>(18, 55));
+    EXPECT_EQ(cv::countNonZero(ice.colRange(0, 30)), 0);
+    EXPECT_EQ(cv::countNonZero(ice.colRange(80, 120)), 0);
+}
+
 }  // namespace
 }  // namespace icewatch::volume

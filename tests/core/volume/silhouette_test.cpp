@@ -88,5 +88,29 @@ TEST(Silhouette, HiddenPixelsLieOnTheNodesThatMovedOntoThem) {
     EXPECT_TRUE(onGrid.at<std::uint8_t>(j, i - static_cast<int>(std::lround(5 / grid.du))));
 }
 
+// Pixels that changed alone, scattered beside an edge (the noise's tail, a JPEG block's ringing
+// where the edge moved), are not background hidden by anything; a band is, whole, with the thin
+// end it tapers to.
+TEST(Silhouette, ScatteredPixelsAreNotHiddenBackgroundABandIs) {
+    std::mt19937 random(11);
+    std::normal_distribution<float> noise(0.0f, 0.4f);
+    cv::Mat baseline(120, 200, CV_32F), current(120, 200, CV_32F);
+    for (int y = 0; y < 120; ++y)
+        for (int x = 0; x < 200; ++x) {
+            baseline.at<float>(y, x) = 200.0f + noise(random);
+            current.at<float>(y, x) = 200.0f + noise(random);
+        }
+    for (int x = 10; x < 190; x += 7) current.at<float>(30 + (x % 3), x) += 12.0f;  // single pixels
+    for (int x = 12; x < 190; x += 23) current(cv::Rect(x, 40, 2, 1)) += 12.0f;     // pairs
+    current(cv::Rect(60, 50, 80, 4)) += 12.0f;                                      // a bead's band
+    current(cv::Rect(140, 51, 20, 1)) += 12.0f;                                     // its thin end
+    cv::Mat where = cv::Mat::zeros(120, 200, CV_8U);
+    where.rowRange(20, 60).setTo(255);
+    const cv::Mat hidden = backgroundHidden(baseline, current, where, 1.0, 3.0);
+    EXPECT_EQ(cv::countNonZero(hidden.rowRange(20, 45)), 0);
+    EXPECT_EQ(cv::countNonZero(hidden(cv::Rect(60, 50, 80, 4))), 80 * 4);
+    EXPECT_EQ(cv::countNonZero(hidden(cv::Rect(140, 51, 20, 1))), 20);
+}
+
 }  // namespace
 }  // namespace icewatch::volume
