@@ -4,9 +4,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <vector>
 
 #include <opencv2/imgproc.hpp>
+
+#include "core/volume/mask_parts.hpp"
 
 namespace icewatch::volume {
 
@@ -116,23 +117,8 @@ cv::Mat iceBeyondOutline(const cv::Mat& riseMm, const cv::Mat& inside, double mi
     cv::Mat near;
     const cv::Mat square = cv::getStructuringElement(cv::MORPH_RECT, {2 * gapNodes + 3, 2 * gapNodes + 3});
     cv::dilate(inside, near, square);
-    cv::Mat labels;
-    const int n = cv::connectedComponents(rising, labels, 4, CV_32S);
-    std::vector<double> highest(static_cast<std::size_t>(n), 0.0);
-    std::vector<std::uint8_t> touches(static_cast<std::size_t>(n), 0);
-    for (int j = 0; j < labels.rows; ++j)
-        for (int i = 0; i < labels.cols; ++i) {
-            const auto l = static_cast<std::size_t>(labels.at<int>(j, i));
-            if (l == 0) continue;
-            highest[l] = std::max(highest[l], riseMm.at<double>(j, i));
-            if (near.at<std::uint8_t>(j, i)) touches[l] = 1;
-        }
-    cv::Mat ice = cv::Mat::zeros(riseMm.size(), CV_8U);
-    for (int j = 0; j < labels.rows; ++j)
-        for (int i = 0; i < labels.cols; ++i) {
-            const auto l = static_cast<std::size_t>(labels.at<int>(j, i));
-            if (l != 0 && touches[l] && highest[l] >= minRiseMm) ice.at<std::uint8_t>(j, i) = 255;
-        }
+    // Parts that touch the region and rise somewhere by minRiseMm.
+    cv::Mat ice = partsHolding(rising, near, 4) & partsHolding(rising, riseMm >= minRiseMm, 4);
     if (gapNodes > 0) {
         // The gap between the region and the ice touching it: unmeasured nodes near both.
         cv::Mat nearIce;
@@ -159,17 +145,7 @@ cv::Mat taperedIce(const cv::Mat& hidden, const cv::Mat& inside, const cv::Mat& 
     const cv::Mat candidate = closed & (region == 0);
     cv::Mat near;
     cv::dilate(region, near, cv::getStructuringElement(cv::MORPH_RECT, {3, 3}));
-    cv::Mat labels;
-    const int n = cv::connectedComponents(candidate, labels, 8, CV_32S);
-    std::vector<std::uint8_t> touches(static_cast<std::size_t>(n), 0);
-    for (int j = 0; j < labels.rows; ++j)
-        for (int i = 0; i < labels.cols; ++i)
-            if (near.at<std::uint8_t>(j, i)) touches[static_cast<std::size_t>(labels.at<int>(j, i))] = 1;
-    touches[0] = 0;
-    cv::Mat standing = cv::Mat::zeros(inside.size(), CV_8U);
-    for (int j = 0; j < labels.rows; ++j)
-        for (int i = 0; i < labels.cols; ++i)
-            if (touches[static_cast<std::size_t>(labels.at<int>(j, i))]) standing.at<std::uint8_t>(j, i) = 255;
+    const cv::Mat standing = partsHolding(candidate, near);
     // Node distances to the region and to the background; the outline and the silhouette lie half
     // a node beyond the last node on either side.
     cv::Mat toRegion, toBackground;

@@ -8,6 +8,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "core/volume/mask_parts.hpp"
 #include "core/volume/patch_tracker.hpp"
 
 namespace icewatch::volume {
@@ -52,16 +53,7 @@ cv::Mat backgroundHidden(const cv::Mat& baselineGrey, const cv::Mat& currentGrey
     // of the ice that was not there). A part is kept whole when it holds a 3 x 3 block.
     cv::Mat cores;
     cv::morphologyEx(hidden, cores, cv::MORPH_OPEN, cv::getStructuringElement(cv::MORPH_RECT, {3, 3}));
-    cv::Mat labels;
-    const int n = cv::connectedComponents(hidden, labels, 8, CV_32S);
-    std::vector<std::uint8_t> keep(static_cast<std::size_t>(n), 0);
-    for (int y = 0; y < labels.rows; ++y)
-        for (int x = 0; x < labels.cols; ++x)
-            if (cores.at<std::uint8_t>(y, x)) keep[static_cast<std::size_t>(labels.at<int>(y, x))] = 1;
-    for (int y = 0; y < labels.rows; ++y)
-        for (int x = 0; x < labels.cols; ++x)
-            if (!keep[static_cast<std::size_t>(labels.at<int>(y, x))]) hidden.at<std::uint8_t>(y, x) = 0;
-    return hidden;
+    return partsHolding(hidden, cores);
 }
 
 cv::Mat featurelessBackground(const cv::Mat& grey, const cv::Mat& object, double minTextureGrey) {

@@ -1,0 +1,33 @@
+// Connected parts of a mask (mask_parts.hpp).
+#include "core/volume/mask_parts.hpp"
+
+#include <cstdint>
+#include <vector>
+
+#include <opencv2/imgproc.hpp>
+
+namespace icewatch::volume {
+
+cv::Mat partsHolding(const cv::Mat& mask, const cv::Mat& seeds, int connectivity) {
+    CV_Assert(mask.type() == CV_8UC1 && seeds.type() == CV_8UC1 && mask.size() == seeds.size());
+    cv::Mat labels;
+    const int n = cv::connectedComponents(mask, labels, connectivity, CV_32S);
+    std::vector<std::uint8_t> held(static_cast<std::size_t>(n), 0);
+    for (int y = 0; y < labels.rows; ++y) {
+        const int* label = labels.ptr<int>(y);
+        const std::uint8_t* seed = seeds.ptr<std::uint8_t>(y);
+        for (int x = 0; x < labels.cols; ++x)
+            if (seed[x]) held[static_cast<std::size_t>(label[x])] = 1;
+    }
+    held[0] = 0;  // the background
+    cv::Mat parts = cv::Mat::zeros(mask.size(), CV_8U);
+    for (int y = 0; y < labels.rows; ++y) {
+        const int* label = labels.ptr<int>(y);
+        std::uint8_t* part = parts.ptr<std::uint8_t>(y);
+        for (int x = 0; x < labels.cols; ++x)
+            if (held[static_cast<std::size_t>(label[x])]) part[x] = 255;
+    }
+    return parts;
+}
+
+}  // namespace icewatch::volume
