@@ -60,7 +60,8 @@ cv::Mat renderEye(const std::vector<Mesh>& meshes, const Shading& shading, const
             auto* out = fine.ptr<float>(y);
             const float skyY = 1.0f - static_cast<float>(y) / view.size.height;
             for (int x = 0; x < view.size.width; ++x) {
-                out[x] = shadeSample(shading, material[x], attributes[x], skyY);
+                const float skyX = static_cast<float>(x) / view.size.width;
+                out[x] = shadeSample(shading, material[x], attributes[x], skyX, skyY);
             }
         }
     });

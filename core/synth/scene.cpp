@@ -41,6 +41,8 @@ constexpr double kPlateRoiInsetMm = 25.0;
 // The blade lies flat side down on the table; the table sits a hair below so that the outline,
 // where the blade's surface meets it, never depends on the z-buffer's rounding.
 constexpr double kTableBelowBladeMm = 0.5;
+// Clouds' contrast on the overcast's brightness (0.80-0.85): soft ones, about 12 grey levels.
+constexpr double kCloudContrast = 0.05;
 
 // The captures' geometry and what it says about the truth.
 struct Geometry {
@@ -148,6 +150,9 @@ void checkSpec(const SceneSpec& spec) {
     if (!(spec.lightTurnDeg >= 0 && spec.lightTurnDeg <= kMaxLightTurnDeg)) {
         throw InvalidInput("synthetic scene: the light's turn must be between 0 and 60 degrees");
     }
+    if (!(spec.cloudDrift >= 0 && spec.cloudDrift <= kMaxCloudDrift)) {
+        throw InvalidInput("synthetic scene: the clouds' drift must be between 0 and 0.5 of the image");
+    }
     if (spec.kind == SceneKind::Block && spec.ice != IceKind::LeadingEdge) {
         throw InvalidInput("synthetic scene: the ice kind is the blade's; a block scene's ice is the block");
     }
@@ -240,9 +245,11 @@ SyntheticScene renderScene(const SceneSpec& spec) {
         }
     }
 
-    const Shading shading{scene.look, spec.ice, spec.seed};
+    const double clouds = spec.cloudDrift > 0 ? kCloudContrast : 0.0;
+    const Shading beforeShading{scene.look, spec.ice, spec.seed, clouds, 0.0};
+    const Shading afterShading{scene.look, spec.ice, spec.seed, clouds, spec.cloudDrift};
     EyeTruth beforeTruth, afterTruth;
-    auto light = [&](const std::vector<Mesh>& meshes, EyeTruth& truth) {
+    auto light = [&](const std::vector<Mesh>& meshes, const Shading& shading, EyeTruth& truth) {
         const double b = spec.baselineMm;
         const cv::Mat left = renderEye(meshes, shading, scene.calibration, 0.0, spec.supersampling, b, &truth);
         const cv::Mat right = renderEye(meshes, shading, scene.calibration, b, spec.supersampling);
@@ -253,9 +260,9 @@ SyntheticScene renderScene(const SceneSpec& spec) {
         for (auto& s : seeds) s = static_cast<std::uint32_t>(random());
         return seeds;
     };
-    scene.beforeJpeg = exposeFrames(light(geometry.before, beforeTruth), {1.0, spec.noiseSigma, spec.jpegQuality},
+    scene.beforeJpeg = exposeFrames(light(geometry.before, beforeShading, beforeTruth), {1.0, spec.noiseSigma, spec.jpegQuality},
                                     noiseSeeds());
-    scene.afterJpeg = exposeFrames(light(geometry.after, afterTruth),
+    scene.afterJpeg = exposeFrames(light(geometry.after, afterShading, afterTruth),
                                    {spec.lightChange, spec.noiseSigma, spec.jpegQuality}, noiseSeeds());
     scene.before = cv::imdecode(scene.beforeJpeg.front(), cv::IMREAD_COLOR);
     scene.after = cv::imdecode(scene.afterJpeg.front(), cv::IMREAD_COLOR);

@@ -57,6 +57,7 @@ inline constexpr double kMaxRollDeg = 45.0;
 inline constexpr double kMinDistanceMm = 600.0;
 inline constexpr double kMaxDistanceMm = 1500.0;
 inline constexpr double kMaxLightTurnDeg = 60.0;
+inline constexpr double kMaxCloudDrift = 0.5;
 
 struct SceneSpec {
     SceneKind kind = SceneKind::Blade;
@@ -74,6 +75,9 @@ struct SceneSpec {
     double lightTurnDeg = 0.0; // the current capture's light direction turned by this (the sun moved)
     double distanceMm = 850.0;  // camera to object
     double rollDeg = 0.0;       // the object turned by this about the view axis (in the image)
+    // Clouds drift behind the object by this share of the image's width between the captures
+    // (0: an even overcast without clouds), where the sky shows.
+    double cloudDrift = 0.0;
     double baselineMm = 60.0;
     double horizontalFovDeg = 80.0;
 };

@@ -77,7 +77,7 @@ float tabletop(const Shading& s, float a, float b) {
 
 }  // namespace
 
-float shadeSample(const Shading& shading, int material, const cv::Vec4f& a, float skyY) {
+float shadeSample(const Shading& shading, int material, const cv::Vec4f& a, float skyX, float skyY) {
     switch (material) {
         case kMaterialBlade: {
             const float albedo = composite(shading, a[0], a[1]);
@@ -99,9 +99,14 @@ float shadeSample(const Shading& shading, int material, const cv::Vec4f& a, floa
             return (0.45f + 0.12f * fractalNoise(a[0], a[1], 8.0, 5, shading.seed + 300)) * a[2];
         case kMaterialTable:
             return tabletop(shading, a[0], a[1]) * a[2];
-        default:
-            // Overcast sky: bright, almost featureless.
-            return 0.80f + 0.05f * skyY;
+        default: {
+            // Overcast sky: bright, almost featureless; clouds, as far as the sky, lie at the same
+            // place in both eyes and drift between the captures.
+            const float overcast = 0.80f + 0.05f * skyY;
+            if (shading.cloudContrast <= 0) return overcast;
+            return overcast + static_cast<float>(shading.cloudContrast) *
+                                  fractalNoise(skyX + shading.cloudShift, skyY, 0.2, 3, shading.seed + 400);
+        }
     }
 }
 

@@ -14,11 +14,15 @@ struct Shading {
     Look look;
     IceKind ice = IceKind::LeadingEdge;
     std::uint32_t seed = 1;
+    // Clouds in the sky (0: an even overcast): their contrast, and how far they drifted, as a share
+    // of the image's width, since the baseline.
+    double cloudContrast = 0;
+    double cloudShift = 0;
 };
 
 // Light (0..1, before the camera's gain) of one sample from its material and its attributes
 // (surface coordinates a, b in mm, Lambert factor, ice thickness in mm); material < 0 is the sky,
-// skyY its height in the image (0 bottom .. 1 top).
-float shadeSample(const Shading& shading, int material, const cv::Vec4f& a, float skyY);
+// (skyX, skyY) its place in the image (0 .. 1 from the left, 0 bottom .. 1 top).
+float shadeSample(const Shading& shading, int material, const cv::Vec4f& a, float skyX, float skyY);
 
 }  // namespace icewatch::synth

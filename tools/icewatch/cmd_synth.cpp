@@ -87,6 +87,7 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
         double lightTurnDeg = 0.0;
         double distanceMm = 850.0;
         double rollDeg = 0.0;
+        double cloudDrift = 0.0;
         bool force = false;
         bool json = false;
     };
@@ -125,6 +126,10 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
                     "the object turned about the view axis by this many degrees (a blade parked at another angle), "
                     "-45..45; it must still fit in the frame")
         ->check(CLI::Range(-synth::kMaxRollDeg, synth::kMaxRollDeg));
+    cmd->add_option("--clouds", o->cloudDrift,
+                    "soft clouds in the sky, drifting by this share of the image's width between the captures, "
+                    "0..0.5 (0: an even overcast)")
+        ->check(CLI::Range(0.0, synth::kMaxCloudDrift));
     cmd->add_option("--out", o->out, "scene directory to write")->required();
     addForceFlag(*cmd, o->force);
     cmd->add_flag("--json", o->json, "print what was written as one JSON object");
@@ -154,6 +159,7 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
             spec.lightTurnDeg = o->lightTurnDeg;
             spec.distanceMm = o->distanceMm;
             spec.rollDeg = o->rollDeg;
+            spec.cloudDrift = o->cloudDrift;
             Progress progress("synth");
             progress.show("rendering " + o->mode + " x " + std::to_string(spec.frames) + " frames");
             const synth::SyntheticScene scene = synth::renderScene(spec);

@@ -304,6 +304,32 @@ TEST(SynthLooks, ARollTurnsTheBladeInTheImageWithTheSameIce) {
     EXPECT_THROW(renderScene(spec), InvalidInput);
 }
 
+// Clouds lie as far as the sky: at the same pixel in both eyes; between the captures they drift,
+// and the blade, unmoved, stays as it was but for its ice.
+TEST(SynthLooks, CloudsDriftInTheSkyAtTheSamePlaceInBothEyes) {
+    SceneSpec spec = smallBlade(IceKind::LeadingEdge, MotionKind::None);
+    spec.cloudDrift = 0.1;
+    const SyntheticScene cloudy = renderScene(spec);
+    cv::Mat sky;
+    cv::erode(cloudy.beforeDisparity <= 0, sky, cv::Mat(), {-1, -1}, 4);
+    cv::Mat leftGreyBefore = leftGrey(cloudy.before), rightGreyBefore;
+    cv::cvtColor(splitSideBySide(cloudy.before).right, rightGreyBefore, cv::COLOR_BGR2GRAY);
+    rightGreyBefore.convertTo(rightGreyBefore, CV_32F);
+    // Away from the blade in both eyes (the right eye sees it shifted by its disparity).
+    cv::Mat rightSky;
+    cv::erode(cloudy.beforeDisparity <= 0, rightSky, cv::Mat(), {-1, -1}, 40);
+    EXPECT_LT(cv::mean(cv::abs(leftGreyBefore - rightGreyBefore), rightSky)[0], 1.0);
+    cv::Scalar mean, sd;
+    cv::meanStdDev(leftGreyBefore, mean, sd, sky);
+    EXPECT_GT(sd[0], 4.0);  // clouds, not an even overcast
+    const cv::Mat drifted = cv::abs(leftGrey(cloudy.after) - leftGreyBefore);
+    EXPECT_GT(cv::mean(drifted, sky)[0], 2.0);
+    const cv::Mat clean = (cloudy.afterDisparity > 0) & (cloudy.afterIceMm <= 0.0f);
+    cv::Mat cleanInside;
+    cv::erode(clean, cleanInside, cv::Mat(), {-1, -1}, 3);
+    EXPECT_LT(cv::mean(drifted, cleanInside)[0], 0.5);
+}
+
 TEST(SynthLooks, ImpossibleOptionsAreRefused) {
     SceneSpec spec = smallBlade(IceKind::LeadingEdge);
     spec.lightChange = 0.1;
@@ -315,6 +341,9 @@ TEST(SynthLooks, ImpossibleOptionsAreRefused) {
     EXPECT_THROW(renderScene(spec), InvalidInput);
     spec.lightTurnDeg = 0;
     spec.distanceMm = 2000;
+    EXPECT_THROW(renderScene(spec), InvalidInput);
+    spec.distanceMm = 850;
+    spec.cloudDrift = 0.6;
     EXPECT_THROW(renderScene(spec), InvalidInput);
     spec = smallBlade(IceKind::Patches);
     spec.kind = SceneKind::Block;
