@@ -52,6 +52,8 @@ nlohmann::json toJson(const CycleResult& r) {
         {"uncertainty_mm3", optionalNumber(r.uncertaintyMm3)},
         {"mean_thickness_mm", optionalNumber(r.meanThicknessMm)},
         {"max_thickness_mm", optionalNumber(r.maxThicknessMm)},
+        {"ice_area_mm2", optionalNumber(r.iceAreaMm2)},
+        {"beyond_outline_mm3", optionalNumber(r.beyondOutlineMm3)},
         {"valid_percent", optionalNumber(r.validPercent)},
         {"alarm", alarm::toString(r.alarm)},
         {"alarm_reason", r.alarmReason.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.alarmReason)},

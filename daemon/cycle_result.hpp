@@ -14,7 +14,8 @@
 
 namespace icewatch::daemon {
 
-// Version of the latest.json / history document layout; bump when a field changes meaning.
+// Version of the latest.json / history document layout; bump when a field changes meaning (a field
+// added, ice_area_mm2 and beyond_outline_mm3, changes none).
 constexpr int kResultSchema = 1;
 
 enum class CycleStatus {
@@ -40,6 +41,8 @@ struct CycleResult {
     std::optional<double> uncertaintyMm3;
     std::optional<double> meanThicknessMm;
     std::optional<double> maxThicknessMm;
+    std::optional<double> iceAreaMm2;        // where the thickness was integrated
+    std::optional<double> beyondOutlineMm3;  // of the volume, ice standing out of the clean outline
     std::optional<double> validPercent;
     alarm::AlarmLevel alarm = alarm::AlarmLevel::Fault;
     std::string alarmReason;  // why the level is fault; empty otherwise

@@ -7,6 +7,7 @@
 
 #include <iterator>
 #include <sstream>
+#include <utility>
 
 #include "core/common/error.hpp"
 #include "daemon/cycle_result.hpp"
@@ -37,17 +38,22 @@ CREATE TABLE IF NOT EXISTS results (
     version TEXT NOT NULL,
     config_sha256 TEXT NOT NULL,
     alarm_reason TEXT,
-    last_ok TEXT
+    last_ok TEXT,
+    ice_area_mm2 REAL,
+    beyond_outline_mm3 REAL
 );
 CREATE INDEX IF NOT EXISTS results_time ON results(time_unix);
 )";
 
 constexpr const char* kColumns =
     "schema, time, status, reason, volume_mm3, uncertainty_mm3, mean_thickness_mm, max_thickness_mm, "
-    "valid_percent, alarm, camera, quality, timings_ms, version, config_sha256, alarm_reason, last_ok";
+    "valid_percent, alarm, camera, quality, timings_ms, version, config_sha256, alarm_reason, last_ok, "
+    "ice_area_mm2, beyond_outline_mm3";
 
-// Columns added since the first layout, which a history written before lacks (its rows read null).
-constexpr const char* kAddedColumns[] = {"alarm_reason", "last_ok"};
+// Columns added since the first layout, with their types, which a history written before lacks
+// (its rows read null).
+constexpr std::pair<const char*, const char*> kAddedColumns[] = {
+    {"alarm_reason", "TEXT"}, {"last_ok", "TEXT"}, {"ice_area_mm2", "REAL"}, {"beyond_outline_mm3", "REAL"}};
 
 // Finalises a statement however the function is left.
 struct Statement {
@@ -89,9 +95,9 @@ std::string csvField(const nlohmann::json& value) {
 }
 
 const std::vector<std::string> kCsvColumns{"time",          "status",           "reason",           "volume_mm3",
-                                           "uncertainty_mm3", "mean_thickness_mm", "max_thickness_mm", "valid_percent",
-                                           "alarm",         "camera",           "quality",          "version",
-                                           "config_sha256"};
+                                           "uncertainty_mm3", "mean_thickness_mm", "max_thickness_mm", "ice_area_mm2",
+                                           "beyond_outline_mm3", "valid_percent", "alarm",           "camera",
+                                           "quality",       "version",          "config_sha256"};
 
 }  // namespace
 
@@ -132,11 +138,11 @@ bool History::setUp(std::string& why) {
     // not at the first insert hours later.
     const std::string setup = std::string("PRAGMA journal_mode=WAL; PRAGMA synchronous=NORMAL;") + kSchema;
     bool ok = sqlite3_exec(db_, setup.c_str(), nullptr, nullptr, &message) == SQLITE_OK;
-    for (const char* column : kAddedColumns) {
+    for (const auto& [column, type] : kAddedColumns) {
         Statement probe;
         const std::string select = std::string("SELECT ") + column + " FROM results LIMIT 0";
         if (ok && sqlite3_prepare_v2(db_, select.c_str(), -1, &probe.stmt, nullptr) != SQLITE_OK) {
-            const std::string add = std::string("ALTER TABLE results ADD COLUMN ") + column + " TEXT";
+            const std::string add = std::string("ALTER TABLE results ADD COLUMN ") + column + " " + type;
             ok = sqlite3_exec(db_, add.c_str(), nullptr, nullptr, &message) == SQLITE_OK;
         }
     }
@@ -206,7 +212,7 @@ int History::insert(const CycleResult& r) {
     const nlohmann::json doc = toJson(r);
     Statement s;
     const std::string sql = std::string("INSERT INTO results (time_unix, ") + kColumns +
-                            ") VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16, ?17, ?18)";
+                            ") VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16, ?17, ?18, ?19, ?20)";
     if (const int rc = sqlite3_prepare_v2(db_, sql.c_str(), -1, &s.stmt, nullptr); rc != SQLITE_OK) {
         log::get("history")->error("{}: cannot prepare insert: {}", file_.string(), sqlite3_errmsg(db_));
         return rc;
@@ -242,6 +248,8 @@ int History::insert(const CycleResult& r) {
             sqlite3_bind_text(s.stmt, index, text->c_str(), -1, SQLITE_TRANSIENT);
         }
     }
+    bindOptional(s.stmt, 19, r.iceAreaMm2);
+    bindOptional(s.stmt, 20, r.beyondOutlineMm3);
     const int rc = sqlite3_step(s.stmt);
     if (rc != SQLITE_DONE) {
         log::get("history")->error("{}: cannot insert a row: {}", file_.string(), sqlite3_errmsg(db_));
@@ -281,7 +289,7 @@ std::vector<nlohmann::json> History::since(std::chrono::system_clock::time_point
     static const char* kNames[] = {"schema", "time",          "status",           "reason",           "volume_mm3",
                                    "uncertainty_mm3", "mean_thickness_mm", "max_thickness_mm", "valid_percent",
                                    "alarm",  "camera",        "quality",          "timings_ms",       "version",
-                                   "config_sha256", "alarm_reason", "last_ok"};
+                                   "config_sha256", "alarm_reason", "last_ok", "ice_area_mm2", "beyond_outline_mm3"};
     int rc = SQLITE_ROW;
     while ((rc = sqlite3_step(s.stmt)) == SQLITE_ROW) {
         nlohmann::json row = nlohmann::json::object();

@@ -15,8 +15,9 @@ namespace icewatch::daemon {
 struct CycleResult;
 
 // One row per measurement cycle in SQLite, with the fields of latest.json (schema, time, status,
-// reason, volume_mm3, uncertainty_mm3, mean_thickness_mm, max_thickness_mm, valid_percent, alarm,
-// camera, quality, timings_ms, version, config_sha256). Safe to use from several threads.
+// reason, volume_mm3, uncertainty_mm3, mean_thickness_mm, max_thickness_mm, ice_area_mm2,
+// beyond_outline_mm3, valid_percent, alarm, camera, quality, timings_ms, version, config_sha256).
+// Safe to use from several threads.
 class History {
 public:
     enum class Mode { ReadWrite, ReadOnly };

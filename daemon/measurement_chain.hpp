@@ -29,6 +29,8 @@ struct ChainResult {
     double coverageFactor = 1.0;
     double meanThicknessMm = 0.0;
     double maxThicknessMm = 0.0;
+    double iceAreaMm2 = 0.0;        // where thickness was integrated (possible ice, grown by the matcher's reach)
+    double beyondOutlineMm3 = 0.0;  // of the volume, ice standing out of the clean blade's outline
     double validPercent = 0.0;    // share of the region with a valid disparity
     std::map<std::string, double> timingsMs;  // per stage
     ChainPictures pictures;

@@ -156,6 +156,8 @@ std::optional<CycleOutcome> runMeasurementCycle(FrameSource& source, Measurement
     r.uncertaintyMm3 = c.uncertaintyMm3;
     r.meanThicknessMm = c.meanThicknessMm;
     r.maxThicknessMm = c.maxThicknessMm;
+    r.iceAreaMm2 = c.iceAreaMm2;
+    r.beyondOutlineMm3 = c.beyondOutlineMm3;
     r.validPercent = c.validPercent;
     outcome.pictures = std::move(c.pictures);
     return outcome;

@@ -84,6 +84,8 @@ ChainResult VolumeMeasurementChain::estimate(StereoPair current) {
     r.coverageFactor = coverageFactor_;
     r.meanThicknessMm = v.meanThicknessMm;
     r.maxThicknessMm = v.maxThicknessMm;
+    r.iceAreaMm2 = v.iceAreaMm2;
+    r.beyondOutlineMm3 = v.beyondOutlineMm3;
     r.validPercent = v.validPercent;
     return r;
 }

@@ -29,6 +29,8 @@ TEST(Daemon, LatestJsonCarriesEveryField) {
     EXPECT_EQ(rig.chain->calls, 1);
     EXPECT_DOUBLE_EQ(doc["mean_thickness_mm"].get<double>(), 2.0);
     EXPECT_DOUBLE_EQ(doc["max_thickness_mm"].get<double>(), 6.0);
+    EXPECT_DOUBLE_EQ(doc["ice_area_mm2"].get<double>(), 500.0);
+    EXPECT_DOUBLE_EQ(doc["beyond_outline_mm3"].get<double>(), 100.0);
     EXPECT_DOUBLE_EQ(doc["valid_percent"].get<double>(), 90.0);
     EXPECT_EQ(doc["alarm"], "alarm");
     EXPECT_EQ(doc["camera"], "ok");

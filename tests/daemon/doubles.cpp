@@ -75,6 +75,8 @@ ChainResult okResult(double volumeMm3, double uncertaintyMm3, double meanThickne
     r.uncertaintyMm3 = uncertaintyMm3;
     r.meanThicknessMm = meanThicknessMm;
     r.maxThicknessMm = 3 * meanThicknessMm;
+    r.iceAreaMm2 = volumeMm3 / meanThicknessMm;
+    r.beyondOutlineMm3 = 0.1 * volumeMm3;
     r.validPercent = 90.0;
     r.timingsMs = {{"match", 12.5}, {"integrate", 0.5}};
     return r;
