@@ -142,7 +142,7 @@ void checkSpec(const SceneSpec& spec) {
         throw InvalidInput("synthetic scene: light change must be between 0.2 and 3");
     }
     if (!(std::abs(spec.rollDeg) <= kMaxRollDeg)) {
-        throw InvalidInput("synthetic scene: the object's roll must be between -45 and 45 degrees");
+        throw InvalidInput("synthetic scene: the object's roll must be between -180 and 180 degrees");
     }
     if (!(spec.distanceMm >= kMinDistanceMm && spec.distanceMm <= kMaxDistanceMm)) {
         throw InvalidInput("synthetic scene: the object's distance must be between 600 and 1500 mm");

@@ -53,7 +53,7 @@ std::string backgroundName(Background background);
 inline constexpr int kMaxFrames = 256;
 inline constexpr double kMinLightChange = 0.2;
 inline constexpr double kMaxLightChange = 3.0;
-inline constexpr double kMaxRollDeg = 45.0;
+inline constexpr double kMaxRollDeg = 180.0;
 inline constexpr double kMinDistanceMm = 600.0;
 inline constexpr double kMaxDistanceMm = 1500.0;
 inline constexpr double kMaxLightTurnDeg = 60.0;

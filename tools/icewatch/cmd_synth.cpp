@@ -124,7 +124,7 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
         ->check(CLI::Range(synth::kMinDistanceMm, synth::kMaxDistanceMm));
     cmd->add_option("--roll", o->rollDeg,
                     "the object turned about the view axis by this many degrees (a blade parked at another angle), "
-                    "-45..45; it must still fit in the frame")
+                    "-180..180 (180: tip and leading edge the other way round); it must still fit in the frame")
         ->check(CLI::Range(-synth::kMaxRollDeg, synth::kMaxRollDeg));
     cmd->add_option("--clouds", o->cloudDrift,
                     "soft clouds in the sky, drifting by this share of the image's width between the captures, "

@@ -294,13 +294,13 @@ TEST(SynthLooks, ARollTurnsTheBladeInTheImageWithTheSameIce) {
         return 0.5 * std::atan2(2 * m.mu11, m.mu20 - m.mu02) * 180.0 / CV_PI;
     };
     EXPECT_NEAR(axisDeg(rolled) - axisDeg(level), 25.0, 3.0);
-    // Rolled so far, this close, that it leaves the frame; or rolled past the limit: refused.
+    // Rolled so far, this close, that it leaves the frame; or past a half turn: refused.
     spec.frameSize = {2560, 720};  // a 16:9 eye: the blade's length across it
     spec.distanceMm = 600;
     spec.rollDeg = 45;
     EXPECT_THROW(renderScene(spec), InvalidInput);
     spec.distanceMm = 850;
-    spec.rollDeg = 50;
+    spec.rollDeg = 200;
     EXPECT_THROW(renderScene(spec), InvalidInput);
 }
 
