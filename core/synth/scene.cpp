@@ -260,8 +260,8 @@ SyntheticScene renderScene(const SceneSpec& spec) {
         for (auto& s : seeds) s = static_cast<std::uint32_t>(random());
         return seeds;
     };
-    scene.beforeJpeg = exposeFrames(light(geometry.before, beforeShading, beforeTruth), {1.0, spec.noiseSigma, spec.jpegQuality},
-                                    noiseSeeds());
+    scene.beforeJpeg = exposeFrames(light(geometry.before, beforeShading, beforeTruth),
+                                    {1.0, spec.noiseSigma, spec.jpegQuality}, noiseSeeds());
     scene.afterJpeg = exposeFrames(light(geometry.after, afterShading, afterTruth),
                                    {spec.lightChange, spec.noiseSigma, spec.jpegQuality}, noiseSeeds());
     scene.before = cv::imdecode(scene.beforeJpeg.front(), cv::IMREAD_COLOR);

@@ -31,7 +31,9 @@ cv::Mat featurelessBackground(const cv::Mat& grey, const cv::Mat& object, double
 // The pixels of `where` (CV_8U, left frame) whose grey in the current capture differs from the
 // baseline's at the same pixel, scaled by the light's ratio between the captures (background_light.hpp),
 // by more than max(minGrey, four robust standard deviations of that difference over `where`, most
-// of which is background that did not change). CV_8U, 255 where the background is hidden.
+// of which is background that did not change), in parts that hold a 3 x 3 block of such pixels
+// (kept whole): what stands in front of the background hides a patch of it, not pixels alone.
+// CV_8U, 255 where the background is hidden.
 cv::Mat backgroundHidden(const cv::Mat& baselineGrey, const cv::Mat& currentGrey, const cv::Mat& where,
                          double lightRatio, double minGrey);
 
