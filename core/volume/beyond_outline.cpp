@@ -117,8 +117,9 @@ cv::Mat iceBeyondOutline(const cv::Mat& riseMm, const cv::Mat& inside, double mi
     cv::Mat near;
     const cv::Mat square = cv::getStructuringElement(cv::MORPH_RECT, {2 * gapNodes + 3, 2 * gapNodes + 3});
     cv::dilate(inside, near, square);
-    // Parts that touch the region and rise somewhere by minRiseMm.
-    cv::Mat ice = partsHolding(rising, near, 4) & partsHolding(rising, riseMm >= minRiseMm, 4);
+    // Of the parts that touch the region, those that rise somewhere by minRiseMm.
+    const cv::Mat touching = partsHolding(rising, near, 4);
+    cv::Mat ice = partsHolding(touching, touching & (riseMm >= minRiseMm), 4);
     if (gapNodes > 0) {
         // The gap between the region and the ice touching it: unmeasured nodes near both.
         cv::Mat nearIce;
