@@ -212,7 +212,8 @@ int History::insert(const CycleResult& r) {
     const nlohmann::json doc = toJson(r);
     Statement s;
     const std::string sql = std::string("INSERT INTO results (time_unix, ") + kColumns +
-                            ") VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16, ?17, ?18, ?19, ?20)";
+                            ") VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16, ?17, "
+                            "?18, ?19, ?20)";
     if (const int rc = sqlite3_prepare_v2(db_, sql.c_str(), -1, &s.stmt, nullptr); rc != SQLITE_OK) {
         log::get("history")->error("{}: cannot prepare insert: {}", file_.string(), sqlite3_errmsg(db_));
         return rc;
