@@ -183,7 +183,8 @@ constexpr std::pair<SceneKind, const char*> kSceneNames[] = {{SceneKind::Blade, 
 constexpr std::pair<IceKind, const char*> kIceNames[] = {
     {IceKind::LeadingEdge, "leading-edge"}, {IceKind::GlazeAll, "glaze-all"}, {IceKind::Patches, "patches"},
     {IceKind::Bead, "bead"}, {IceKind::BeadGlaze, "bead-glaze"}};
-constexpr std::pair<MotionKind, const char*> kMotionNames[] = {{MotionKind::None, "none"}, {MotionKind::Small, "small"}};
+constexpr std::pair<MotionKind, const char*> kMotionNames[] = {{MotionKind::None, "none"}, {MotionKind::Small, "small"},
+                                                              {MotionKind::Large, "large"}};
 constexpr std::pair<Background, const char*> kBackgroundNames[] = {{Background::Sky, "sky"},
                                                                    {Background::Table, "table"}};
 
@@ -217,7 +218,8 @@ SyntheticScene renderScene(const SceneSpec& spec) {
                           rotationFromDegrees({uniform(-3, 3), uniform(2, 5), uniform(-2, 2)}),
                       {uniform(-10, 10), uniform(-10, 10), spec.distanceMm}};
     // The motion is drawn either way, so that a seed's pose, look and noise do not depend on it.
-    const double maxShiftMm = blade ? 3.0 : 1.0, maxTurnDeg = blade ? 0.3 : 0.1;
+    const double scale = spec.motion == MotionKind::Large ? 5.0 : 1.0;
+    const double maxShiftMm = (blade ? 3.0 : 1.0) * scale, maxTurnDeg = (blade ? 0.3 : 0.1) * scale;
     scene.motion.rotationDeg = {uniform(-maxTurnDeg, maxTurnDeg), uniform(-maxTurnDeg, maxTurnDeg),
                                 uniform(-maxTurnDeg, maxTurnDeg)};
     scene.motion.translationMm = {uniform(-maxShiftMm, maxShiftMm), uniform(-maxShiftMm, maxShiftMm),

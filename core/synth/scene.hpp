@@ -32,6 +32,7 @@ enum class IceKind {
 enum class MotionKind {
     None,   // the identical pose (a blade held in a rig, a camera that did not move)
     Small,  // a parked blade is never exactly where it was: up to 3 mm and 0.3° (block 1 mm, 0.1°)
+    Large,  // parked at another pitch, or bent by another wind: up to 15 mm and 1.5° (block 5 mm, 0.5°)
 };
 
 // What lies behind the object.

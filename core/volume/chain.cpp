@@ -31,6 +31,7 @@
 #include "core/volume/beyond_outline.hpp"
 #include "core/volume/height_grid.hpp"
 #include "core/volume/ice_mask.hpp"
+#include "core/volume/image_motion.hpp"
 #include "core/volume/matcher_push.hpp"
 #include "core/volume/motion_evidence.hpp"
 #include "core/volume/plane_clouds.hpp"
@@ -376,18 +377,21 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     const RectifiedCapture before{baseline.trackLeft, baseline.trackRight, baseline.disparity};
     const RectifiedCapture after{current.trackLeft, current.trackRight, current.disparity};
     const TextureTrackOptions trackOptions = textureTrackOptions(p);
-    // The trackers start from the scene's global shift; a phase correlation can lock onto the
-    // wrong peak (bright ice that appeared, a repeated texture), so a shift larger than any motion
-    // the registration accepts is not believed and the search starts where the object was.
-    cv::Point2d prior = current.shiftFromBaselinePx
+    // The trackers start from the object's image motion, found around the scene's global shift; a
+    // phase correlation can lock onto the wrong peak (bright ice that appeared, a repeated
+    // texture), so a shift larger than any motion the registration accepts is not believed and the
+    // search starts where the object was.
+    cv::Point2d shift = current.shiftFromBaselinePx
                             ? *current.shiftFromBaselinePx
                             : globalImageShift(baseline.leftGrey, current.leftGrey, baseline.roi);
-    if (cv::norm(prior) > p.maxRegistrationMm * impl_->focalPx / depthMm) prior = {0, 0};
-    prior = confirmedShift(baseline.leftGrey, current.leftGrey, baseline.roi, prior);
+    if (cv::norm(shift) > p.maxRegistrationMm * impl_->focalPx / depthMm) shift = {0, 0};
+    const cv::Matx23d imageMotion =
+        objectImageMotion(baseline.leftGrey, current.leftGrey, baseline.roi, shift,
+                          confirmedShift(baseline.leftGrey, current.leftGrey, baseline.roi, shift));
     const std::optional<double> lightRatio = backgroundLightRatio(
         baseline.leftGrey, current.leftGrey, baseline.roi, baseline.matchedWindow, current.matchedWindow);
     const std::vector<TextureTrack> tracks = trackTexture(model->samples, before, after,
-                                                          cv::Matx44d(impl_->calibration.Q), prior, lightRatio, trackOptions);
+                                                          cv::Matx44d(impl_->calibration.Q), imageMotion, lightRatio, trackOptions);
     timer.lap("track");
     MotionEvidenceOptions evidence;
     evidence.minPairs = p.minEvidenceSamples;

@@ -8,7 +8,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/common/fixed_bands.hpp"
-#include "core/volume/match_region.hpp"
+#include "core/volume/image_motion.hpp"
 
 namespace icewatch::volume {
 
@@ -136,24 +136,27 @@ BaselineSamples baselineSamples(const RectifiedCapture& baseline, const cv::Mat&
 }
 
 std::vector<TextureTrack> trackTexture(const BaselineSamples& samples, const RectifiedCapture& baseline,
-                                       const RectifiedCapture& current, const cv::Matx44d& q, cv::Point2d prior,
-                                       std::optional<double> lightRatio, const TextureTrackOptions& o) {
-    const int r = o.patch.radiusPx;
-    // Where a patch, moved by the prior and searched around it, lies inside the current window.
-    const int reach = r + o.temporalSearchPx + 1;
+                                       const RectifiedCapture& current, const cv::Matx44d& q,
+                                       const cv::Matx23d& imageMotion, std::optional<double> lightRatio,
+                                       const TextureTrackOptions& o) {
+    // A patch, searched around where the motion puts it, must lie inside the current window.
+    const int reach = o.patch.radiusPx + o.temporalSearchPx + 1;
     const cv::Rect window = current.left.frameRect();
-    const cv::Rect reachable(window.x + reach + static_cast<int>(std::ceil(std::max(0.0, -prior.x))),
-                             window.y + reach + static_cast<int>(std::ceil(std::max(0.0, -prior.y))),
-                             window.width - 2 * reach - static_cast<int>(std::ceil(std::abs(prior.x))),
-                             window.height - 2 * reach - static_cast<int>(std::ceil(std::abs(prior.y))));
+    const cv::Rect2d reachable(window.x + reach, window.y + reach, window.width - 2 * reach - 1,
+                               window.height - 2 * reach - 1);
     std::vector<std::size_t> used;
-    for (std::size_t i = 0; i < samples.pixels.size(); ++i)
-        if (reachable.contains(samples.pixels[i])) used.push_back(i);
+    std::vector<cv::Point2d> priors;
+    for (std::size_t i = 0; i < samples.pixels.size(); ++i) {
+        const cv::Point2d at(samples.pixels[i]), prior = mapped(imageMotion, at) - at;
+        if (!reachable.contains(at + prior) || !reachable.contains(at)) continue;
+        used.push_back(i);
+        priors.push_back(prior);
+    }
     std::vector<TextureTrack> tracks(used.size());
     forEachIndex(used.size(), [&](std::size_t k) {
         const std::size_t i = used[k];
         tracks[k] = trackOne(baseline, current, samples.pixels[i], samples.onObject[i] != 0, samples.disparity[i], q,
-                             prior, o);
+                             priors[k], o);
     });
     // The scene's own change of brightness (light), and the patches that changed otherwise.
     double sceneRatio = 1.0;
@@ -171,39 +174,6 @@ std::vector<TextureTrack> trackTexture(const BaselineSamples& samples, const Rec
         }
     }
     return tracks;
-}
-
-cv::Point2d globalImageShift(const cv::Mat& baselineLeft, const cv::Mat& currentLeft, const cv::Mat& mask) {
-    cv::Rect box = cv::boundingRect(mask);
-    if (box.width < 16 || box.height < 16) return {0, 0};
-    cv::Mat a, b, window;
-    baselineLeft(box).convertTo(a, CV_32F);
-    currentLeft(box).convertTo(b, CV_32F);
-    cv::createHanningWindow(window, box.size(), CV_32F);
-    return cv::phaseCorrelate(a, b, window);
-}
-
-cv::Point2d confirmedShift(const cv::Mat& baselineLeft, const cv::Mat& currentLeft, const cv::Mat& mask,
-                           cv::Point2d shift) {
-    const cv::Rect box = cv::boundingRect(mask);
-    if (box.empty()) return {0, 0};
-    const int reach = static_cast<int>(std::ceil(std::hypot(shift.x, shift.y))) + 2;
-    const cv::Rect grown = (box + cv::Size(2 * reach, 2 * reach) - cv::Point(reach, reach)) &
-                           cv::Rect(cv::Point(0, 0), mask.size());
-    // The texture alone (the image less its blur): a long object's shading looks alike shifted
-    // along it.
-    auto texture = [](const cv::Mat& image) {
-        cv::Mat grey, blurred;
-        image.convertTo(grey, CV_32F);
-        cv::GaussianBlur(grey, blurred, cv::Size(), 3.0);
-        return cv::Mat(grey - blurred);
-    };
-    const cv::Mat from = texture(baselineLeft(grown)), to = texture(currentLeft(grown));
-    cv::Mat movedBack;
-    cv::warpAffine(to, movedBack, cv::Matx23d(1, 0, shift.x, 0, 1, shift.y), to.size(),
-                   cv::INTER_LINEAR | cv::WARP_INVERSE_MAP, cv::BORDER_REFLECT);
-    const cv::Mat inside = mask(grown);
-    return maskedCorrelation(from, movedBack, inside) > maskedCorrelation(from, to, inside) ? shift : cv::Point2d(0, 0);
 }
 
 }  // namespace icewatch::volume

@@ -74,24 +74,13 @@ struct BaselineSamples {
 BaselineSamples baselineSamples(const RectifiedCapture& baseline, const cv::Mat& object,
                                 const TextureTrackOptions& options = {});
 // Steps 2 and 3 for the samples whose patch and search the current capture's window holds.
-// `prior` is the expected image motion (e.g. from a global correlation). `lightRatio`: the scene's
+// `imageMotion` is where a baseline pixel is expected in the current capture (image_motion.hpp). `lightRatio`: the scene's
 // change of light (background_light.hpp); a patch whose brightness changed otherwise changed its
 // look. Without it, the median over every sample found stands in (ice over the whole object then
 // passes for light).
 std::vector<TextureTrack> trackTexture(const BaselineSamples& samples, const RectifiedCapture& baseline,
-                                       const RectifiedCapture& current, const cv::Matx44d& q, cv::Point2d prior,
-                                       std::optional<double> lightRatio = std::nullopt,
+                                       const RectifiedCapture& current, const cv::Matx44d& q,
+                                       const cv::Matx23d& imageMotion, std::optional<double> lightRatio = std::nullopt,
                                        const TextureTrackOptions& options = {});
-
-// The image motion of the scene between two left images, by phase correlation inside `mask`
-// (CV_8U, the region that matters).
-cv::Point2d globalImageShift(const cv::Mat& baselineLeft, const cv::Mat& currentLeft, const cv::Mat& mask);
-
-// `shift` when the texture inside `mask` looks more like the baseline's moved back by it than in
-// place, zero otherwise: the trackers' starting point. A pattern fixed to the image (a JPEG's 8x8
-// blocks over a faint texture) or the rest of the region's box can win the phase correlation while
-// the object moved a pixel or two, and a start 25 px off leaves every patch outside its search.
-cv::Point2d confirmedShift(const cv::Mat& baselineLeft, const cv::Mat& currentLeft, const cv::Mat& mask,
-                           cv::Point2d shift);
 
 }  // namespace icewatch::volume

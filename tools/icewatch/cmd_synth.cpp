@@ -108,8 +108,10 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
                     "layer over the whole blade), patches (opaque rime patches anywhere), bead (a narrow bead on the leading "
                     "edge, standing out of the outline) or bead-glaze (the bead over a thin glaze)")
         ->check(CLI::IsMember({"leading-edge", "glaze-all", "patches", "bead", "bead-glaze"}));
-    cmd->add_option("--motion", o->motion, "the object's motion between the captures: none or small (up to 3 mm, 0.3°)")
-        ->check(CLI::IsMember({"none", "small"}));
+    cmd->add_option("--motion", o->motion,
+                    "the object's motion between the captures: none, small (up to 3 mm, 0.3°) or large (up to 15 mm, "
+                    "1.5°: parked at another pitch, bent by another wind)")
+        ->check(CLI::IsMember({"none", "small", "large"}));
     cmd->add_option("--background", o->background,
                     "sky (overcast) or table (the object lies on a textured tabletop and moves with it)")
         ->check(CLI::IsMember({"sky", "table"}));

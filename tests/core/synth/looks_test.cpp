@@ -349,7 +349,7 @@ TEST(SynthLooks, ImpossibleOptionsAreRefused) {
     spec.kind = SceneKind::Block;
     EXPECT_THROW(renderScene(spec), InvalidInput);
     EXPECT_THROW(parseIceKind("frost"), InvalidInput);
-    EXPECT_THROW(parseMotionKind("large"), InvalidInput);
+    EXPECT_THROW(parseMotionKind("huge"), InvalidInput);
     EXPECT_THROW(parseBackground("sea"), InvalidInput);
     EXPECT_EQ(parseIceKind(iceKindName(IceKind::GlazeAll)), IceKind::GlazeAll);
 }

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "core/synth/texture.hpp"
+#include "core/volume/image_motion.hpp"
 #include "core/volume/patch_tracker.hpp"
 #include "core/volume/texture_tracks.hpp"
 
@@ -95,7 +96,7 @@ Counts track(const Capture& before, const Capture& after, std::optional<double> 
     q(2, 3) = 800.0;
     q(3, 2) = 1.0 / 60.0;
     Counts counts;
-    for (const TextureTrack& t : trackTexture(samples, b, a, q, {0, 0}, light, options)) {
+    for (const TextureTrack& t : trackTexture(samples, b, a, q, translation({0, 0}), light, options)) {
         if (t.onObject && t.state == TextureTrack::State::Unchanged) ++counts.objectUnchanged;
         if (t.onObject && t.state == TextureTrack::State::Changed) ++counts.objectChanged;
         if (!t.onObject && t.state == TextureTrack::State::Unchanged) ++counts.backgroundUnchanged;

@@ -1,0 +1,163 @@
+// Where the texture trackers start (image_motion.hpp).
+#include "core/volume/image_motion.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <vector>
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "core/volume/match_region.hpp"
+
+namespace icewatch::volume {
+
+namespace {
+
+// The texture alone (the image less its blur): a long object's shading looks alike shifted along
+// it, and a change of light moves the shading, not the texture.
+cv::Mat textureOf(const cv::Mat& image) {
+    cv::Mat grey, blurred;
+    image.convertTo(grey, CV_32F);
+    cv::GaussianBlur(grey, blurred, cv::Size(), 3.0);
+    return grey - blurred;
+}
+
+// Tiles of 64 px, every 32 px: a blade's chord at 2560x720 holds one across (it is ~100 px), and
+// a phase correlation over 64 px finds a residual shift of the ~10 px a degree adds at the ends.
+constexpr int kTilePx = 64;
+constexpr int kTileStepPx = 32;
+// A tile counts when the object covers most of it: the sky or a fixed table beside it would pull
+// its shift towards zero.
+constexpr double kTileObjectShare = 0.6;
+// RANSAC: a tile within this of the fitted map supports it (a phase correlation's sub-pixel peak
+// is not exact), and the map needs this many supporting tiles. A similarity, not an affine map: a
+// blade's chord holds one or two rows of tiles, too few to pin a shear or a stretch across it
+// (an affine fit put the corners of a turned test object 1.8 px off, a similarity 0.65 px).
+constexpr double kTileInlierPx = 1.5;
+constexpr int kMinTiles = 8;
+
+}  // namespace
+
+cv::Point2d globalImageShift(const cv::Mat& baselineLeft, const cv::Mat& currentLeft, const cv::Mat& mask) {
+    cv::Rect box = cv::boundingRect(mask);
+    if (box.width < 16 || box.height < 16) return {0, 0};
+    cv::Mat a, b, window;
+    baselineLeft(box).convertTo(a, CV_32F);
+    currentLeft(box).convertTo(b, CV_32F);
+    cv::createHanningWindow(window, box.size(), CV_32F);
+    return cv::phaseCorrelate(a, b, window);
+}
+
+cv::Matx23d translation(cv::Point2d shift) { return {1, 0, shift.x, 0, 1, shift.y}; }
+
+cv::Point2d mapped(const cv::Matx23d& m, cv::Point2d at) {
+    return {m(0, 0) * at.x + m(0, 1) * at.y + m(0, 2), m(1, 0) * at.x + m(1, 1) * at.y + m(1, 2)};
+}
+
+namespace {
+
+// How alike the baseline's texture and the current's moved back by `motion` are inside `box`'s
+// part of `mask`.
+double correlationMovedBack(const cv::Mat& from, const cv::Mat& to, const cv::Mat& inside, const cv::Matx23d& motion) {
+    cv::Mat movedBack;
+    cv::warpAffine(to, movedBack, motion, to.size(), cv::INTER_LINEAR | cv::WARP_INVERSE_MAP, cv::BORDER_REFLECT);
+    return maskedCorrelation(from, movedBack, inside);
+}
+
+cv::Rect grownBox(const cv::Mat& mask, double motionPx) {
+    const cv::Rect box = cv::boundingRect(mask);
+    const int reach = static_cast<int>(std::ceil(motionPx)) + 2;
+    return (box + cv::Size(2 * reach, 2 * reach) - cv::Point(reach, reach)) & cv::Rect(cv::Point(0, 0), mask.size());
+}
+
+// The largest distance the map moves a corner of `box`: an affine map moves no pixel of it farther.
+double largestMotionPx(const cv::Matx23d& motion, const cv::Rect& box) {
+    double largest = 0;
+    for (const cv::Point2d corner : {cv::Point2d(box.tl()), cv::Point2d(box.br()), cv::Point2d(box.x, box.br().y),
+                                     cv::Point2d(box.br().x, box.y)})
+        largest = std::max(largest, cv::norm(mapped(motion, corner) - corner));
+    return largest;
+}
+
+// The same map in the coordinates of a window whose corner is `origin`: q' = A q + (A o + t - o).
+cv::Matx23d inWindow(const cv::Matx23d& motion, cv::Point origin) {
+    const cv::Point2d shifted = mapped(motion, origin) - cv::Point2d(origin);
+    return {motion(0, 0), motion(0, 1), shifted.x, motion(1, 0), motion(1, 1), shifted.y};
+}
+
+}  // namespace
+
+cv::Point2d confirmedShift(const cv::Mat& baselineLeft, const cv::Mat& currentLeft, const cv::Mat& mask,
+                           cv::Point2d shift) {
+    if (cv::boundingRect(mask).empty()) return {0, 0};
+    const cv::Rect grown = grownBox(mask, std::hypot(shift.x, shift.y));
+    const cv::Mat from = textureOf(baselineLeft(grown)), to = textureOf(currentLeft(grown));
+    const cv::Mat inside = mask(grown);
+    return correlationMovedBack(from, to, inside, translation(shift)) > maskedCorrelation(from, to, inside)
+               ? shift
+               : cv::Point2d(0, 0);
+}
+
+namespace {
+
+// The similarity fitted to the tiles of the object's texture, each found again around `start`;
+// none when too few tiles agree on one.
+std::optional<cv::Matx23d> tileMotion(const cv::Mat& from, const cv::Mat& to, const cv::Mat& mask, cv::Point start) {
+    const cv::Rect box = cv::boundingRect(mask), image(cv::Point(0, 0), mask.size());
+    cv::Mat window;
+    cv::createHanningWindow(window, cv::Size(kTilePx, kTilePx), CV_32F);
+    std::vector<cv::Point2f> tilesBefore, tilesAfter;
+    for (int y = box.y; y + kTilePx <= box.br().y; y += kTileStepPx)
+        for (int x = box.x; x + kTilePx <= box.br().x; x += kTileStepPx) {
+            const cv::Rect tile(x, y, kTilePx, kTilePx), moved = tile + start;
+            if ((moved & image) != moved) continue;
+            if (cv::countNonZero(mask(tile)) < kTileObjectShare * tile.area()) continue;
+            const cv::Point2d residual = cv::phaseCorrelate(from(tile), to(moved), window);
+            const cv::Point2f centre(static_cast<float>(x + 0.5 * (kTilePx - 1)), static_cast<float>(y + 0.5 * (kTilePx - 1)));
+            tilesBefore.push_back(centre);
+            tilesAfter.push_back(centre + cv::Point2f(start) + cv::Point2f(residual));
+        }
+    if (static_cast<int>(tilesBefore.size()) < kMinTiles) return std::nullopt;
+    std::vector<std::uint8_t> inliers;
+    // Fixed RANSAC iterations and OpenCV's own fixed seed: the same images give the same map.
+    const cv::Mat fitted =
+        cv::estimateAffinePartial2D(tilesBefore, tilesAfter, inliers, cv::RANSAC, kTileInlierPx, 2000, 0.999, 10);
+    if (fitted.empty() || cv::countNonZero(inliers) < kMinTiles) return std::nullopt;
+    return cv::Matx23d(fitted);
+}
+
+cv::Point rounded(cv::Point2d p) { return {static_cast<int>(std::lround(p.x)), static_cast<int>(std::lround(p.y))}; }
+
+}  // namespace
+
+cv::Matx23d objectImageMotion(const cv::Mat& baselineLeft, const cv::Mat& currentLeft, const cv::Mat& mask,
+                              cv::Point2d start, cv::Point2d fallback) {
+    const cv::Rect box = cv::boundingRect(mask);
+    if (box.width < kTilePx || box.height < kTilePx) return translation(fallback);
+    const cv::Mat from = textureOf(baselineLeft), to = textureOf(currentLeft);
+    // The tiles start where the global shift puts them, where the confirmed shift does and in
+    // place: a wrong global peak, or a turn that decorrelates the whole box, leaves the others.
+    std::vector<cv::Matx23d> candidates{translation(fallback)};
+    std::vector<cv::Point> starts;
+    for (const cv::Point2d s : {start, fallback, cv::Point2d(0, 0)}) {
+        if (std::find(starts.begin(), starts.end(), rounded(s)) != starts.end()) continue;
+        starts.push_back(rounded(s));
+        if (auto motion = tileMotion(from, to, mask, starts.back())) candidates.push_back(*motion);
+    }
+    // The one that moves the current texture back closest to the baseline's; the shift on a tie.
+    double farthest = 0;
+    for (const cv::Matx23d& m : candidates) farthest = std::max(farthest, largestMotionPx(m, box));
+    const cv::Rect grown = grownBox(mask, farthest);
+    const cv::Mat fromGrown = from(grown), toGrown = to(grown), inside = mask(grown);
+    std::size_t best = 0;
+    double bestCorrelation = -2.0;
+    for (std::size_t k = 0; k < candidates.size(); ++k) {
+        const double c = correlationMovedBack(fromGrown, toGrown, inside, inWindow(candidates[k], grown.tl()));
+        if (c > bestCorrelation) best = k, bestCorrelation = c;
+    }
+    return candidates[best];
+}
+
+}  // namespace icewatch::volume
