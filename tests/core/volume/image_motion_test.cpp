@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -68,7 +69,7 @@ TEST(ConfirmedShift, APeakTheObjectDoesNotShareIsNotBelieved) {
 }
 
 // A long object (a blade's stretch across the image) with a weak texture of its own over an even
-// sky, turned by `turnDeg` about its centre and moved by `shift`; `iced` covers a band of it with a
+// sky, turned by `turnDeg` about its centre and moved by `shift`; `iced` covers parts of it with a
 // whiter texture of another pattern (ice that appeared).
 const cv::Size kWide(900, 300);
 const cv::Rect kLong(100, 100, 700, 100);
@@ -80,14 +81,15 @@ cv::Matx23d turnAndShift(double turnDeg, cv::Point2d shift) {
             s, c, centre.y - s * centre.x - c * centre.y + shift.y};
 }
 
-cv::Mat longObject(const cv::Matx23d& motion, const cv::Rect& iced = {}) {
+cv::Mat longObject(const cv::Matx23d& motion, const std::vector<cv::Rect>& iced = {}) {
     const cv::Matx33d forward(motion(0, 0), motion(0, 1), motion(0, 2), motion(1, 0), motion(1, 1), motion(1, 2), 0, 0, 1);
     const cv::Matx33d back = forward.inv();
     return supersampled(kWide, 2, [&](double px, double py) {
         const cv::Vec3d p = back * cv::Vec3d(px, py, 1);
         const cv::Point2d o(p[0], p[1]);
         if (!cv::Rect2d(kLong).contains(o)) return 200.0;
-        if (cv::Rect2d(iced).contains(o)) return 215.0 + 12.0 * synth::fractalNoise(o.x, o.y, 5.0, 3, 77);
+        for (const cv::Rect& r : iced)
+            if (cv::Rect2d(r).contains(o)) return 215.0 + 12.0 * synth::fractalNoise(o.x, o.y, 5.0, 3, 77);
         return 140.0 + 6.0 * synth::fractalNoise(o.x, o.y, 6.0, 3, 5);
     });
 }
@@ -112,12 +114,23 @@ TEST(ObjectImageMotion, FollowsATurnThatMovesTheEndsBeyondTheTrackersSearch) {
     // 8 px the trackers search around a single shift. A third of the object iced over.
     const cv::Matx23d truth = turnAndShift(1.5, {7.0, 3.0});
     const cv::Mat before = longObject(turnAndShift(0, {0, 0}));
-    const cv::Mat after = longObject(truth, cv::Rect(kLong.x + 250, kLong.y, 230, kLong.height));
+    const cv::Mat after = longObject(truth, {cv::Rect(kLong.x + 250, kLong.y, 230, kLong.height)});
     const cv::Point2d shift = globalImageShift(before, after, longMask());
     const cv::Point2d fallback = confirmedShift(before, after, longMask(), shift);
     ASSERT_GT(cornerError(translation(fallback), truth), 8.0);
     // A start for the trackers: well inside their search, from the ice-free two thirds.
     EXPECT_LT(cornerError(objectImageMotion(before, after, longMask(), shift, fallback), truth), 1.0);
+}
+
+TEST(GlobalImageShift, FindsAShiftOfTensOfPixelsUnderNewIce) {
+    // Moved (18, -12) px, turned 0.5°, bright ice over half of it: the whole box's correlation at
+    // full resolution is a contest between the old texture and the new.
+    const cv::Matx23d truth = turnAndShift(0.5, {18.0, -12.0});
+    const cv::Mat before = longObject(turnAndShift(0, {0, 0}));
+    const cv::Mat after = longObject(truth, {cv::Rect(kLong.x + 100, kLong.y, 350, kLong.height)});
+    const cv::Point2d shift = globalImageShift(before, after, longMask());
+    EXPECT_NEAR(shift.x, 18.0, 2.0);
+    EXPECT_NEAR(shift.y, -12.0, 2.0);
 }
 
 TEST(ObjectImageMotion, AnObjectTooSmallForTilesKeepsTheShift) {
