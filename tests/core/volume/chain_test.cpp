@@ -179,13 +179,17 @@ TEST(VolumeChain, ABeadStandingOutOfTheOutlineIsMeasuredInFull) {
 // A blade parked at another pitch, or bent by another wind: it moved 16 mm and turned 2° (seed 3),
 // and its ends moved against its middle by more than the trackers search around one shift. With
 // one shift for the whole blade not one patch was found again and the blade was refused.
-TEST(VolumeChain, ABladeParkedAtAnotherPitchIsFollowedToItsEnds) {
+synth::SceneSpec bladeParkedAtAnotherPitch(std::uint32_t seed, synth::IceKind ice) {
     synth::SceneSpec spec = smallBladeSpec();
-    spec.seed = 3;
-    spec.ice = synth::IceKind::LeadingEdge;
+    spec.seed = seed;
+    spec.ice = ice;
     spec.iceVolumeMm3 = 197717;
     spec.motion = synth::MotionKind::Large;
-    const AveragedBlade b = measureAveragedBlade(spec, stereo::Method::Paper);
+    return spec;
+}
+
+TEST(VolumeChain, ABladeParkedAtAnotherPitchIsFollowedToItsEnds) {
+    const AveragedBlade b = measureAveragedBlade(bladeParkedAtAnotherPitch(3, synth::IceKind::LeadingEdge), stereo::Method::Paper);
     ASSERT_NO_FATAL_FAILURE(expectMeasured(b, 0.15));
     const VolumeResult& r = b.result;
     EXPECT_GT(r.registrationMm, 10.0) << "the registration found the motion the renderer made";
@@ -196,12 +200,8 @@ TEST(VolumeChain, ABladeParkedAtAnotherPitchIsFollowedToItsEnds) {
 // frames it reads +24 % (inside its uncertainty; +7 % at 16 frames): the bar here is that it is
 // measured and honest, the accuracy is the benchmark's.
 TEST(VolumeChain, RimePatchesOnABladeParkedAtAnotherPitchAreMeasured) {
-    synth::SceneSpec spec = smallBladeSpec();
-    spec.seed = 1;
-    spec.ice = synth::IceKind::Patches;
-    spec.iceVolumeMm3 = 197717;
-    spec.motion = synth::MotionKind::Large;
-    ASSERT_NO_FATAL_FAILURE(expectMeasured(measureAveragedBlade(spec, stereo::Method::Paper), 0.3));
+    const AveragedBlade b = measureAveragedBlade(bladeParkedAtAnotherPitch(1, synth::IceKind::Patches), stereo::Method::Paper);
+    ASSERT_NO_FATAL_FAILURE(expectMeasured(b, 0.3));
 }
 
 // Both glazes of the renderer: one that veils the texture (seed 1) and one so clear that the texture
