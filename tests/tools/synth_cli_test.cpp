@@ -149,7 +149,7 @@ TEST(SynthCli, TruthRecordsEveryOption) {
 TEST(SynthCli, BadOptionValuesAreUsageErrors) {
     const fs::path base = test::freshTempDir();
     const std::vector<std::vector<std::string>> bad{
-        {"--ice", "frost"},          {"--motion", "large"},       {"--background", "sea"},
+        {"--ice", "frost"},          {"--motion", "huge"},        {"--background", "sea"},
         {"--light-change", "0.1"},   {"--light-change", "3.5"},   {"--light-change", "bright"}};
     int k = 0;
     for (const auto& arguments : bad) {
