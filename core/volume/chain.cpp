@@ -46,6 +46,13 @@ namespace icewatch::volume {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+// A segmented region reaching more of the frame's edge than this is the view, not an object: a
+// blade across the view reaches two sides, about a third of the edge at 2560x720.
+constexpr double kMaxSegmentedEdgeShare = 0.6;
+// Said of a refusal that a segmented region may explain.
+constexpr const char* kNoOutlineHint =
+    "; no outline of the object was given (roi.json in a scene, volume.roi_polygon in the configuration) and "
+    "the region was found by depth alone: draw the object's outline";
 
 // Times consecutive stages with the clock the chain was given.
 class StageTimer {
@@ -263,8 +270,24 @@ Surface VolumeChain::Impl::measure(StereoPair raw, const Surface* baseline) {
     // A baseline's points: its segmentation and its model read them; nothing keeps them.
     const cv::Mat points = baseline ? cv::Mat() : reproject(s.disparity, calibration.Q, window);
     if (!polygonRoi.empty()) s.roi = polygonRoi.clone();
-    else if (baseline) s.roi = baseline->roi.clone();
-    else s.roi = segmentRoi(points, parameters.segmentationBandMm);
+    else if (baseline) {
+        s.roi = baseline->roi.clone();
+        s.roiSegmented = baseline->roiSegmented;
+    }
+    else {
+        s.roi = segmentRoi(points, parameters.segmentationBandMm);
+        s.roiSegmented = true;
+        const double edge = frameEdgeShare(s.roi);
+        if (edge > kMaxSegmentedEdgeShare) {
+            std::ostringstream problem;
+            problem.precision(3);
+            problem << "the region found at the object's depth reaches " << 100.0 * edge
+                    << " % of the frame's edge: it is the view, not the object (a surface it lies on, or a "
+                       "featureless sky the matcher filled)"
+                    << kNoOutlineHint;
+            s.roiProblem = problem.str();
+        }
+    }
     s.quality = measureImageQuality(s.rectifiedLeft, s.roi);
     const int inside = cv::countNonZero(s.roi);
     s.validPercent = inside > 0 ? 100.0 * cv::countNonZero((s.disparity >= 0) & s.roi) / inside : 0.0;
@@ -352,8 +375,12 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
 
     // --- gate on the images ---
     if (cv::countNonZero(baseline.roi) == 0) return refused(result, "no region of interest in the baseline");
+    if (!baseline.roiProblem.empty()) return refused(result, baseline.roiProblem);
     for (const auto& [surface, which] : {std::pair{&baseline, "baseline"}, std::pair{&current, "current"}}) {
-        if (auto problem = imageProblem(surface->quality, p, which)) return refused(result, *problem);
+        if (auto problem = imageProblem(surface->quality, p, which)) {
+            // A segmented region may hold featureless sky the matcher filled with the object's depth.
+            return refused(result, *problem + (baseline.roiSegmented ? std::string(kNoOutlineHint) : ""));
+        }
         if (surface->validPercent < p.minValidPercent) {
             std::ostringstream reason;
             reason.precision(3);

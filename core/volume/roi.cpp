@@ -104,4 +104,14 @@ cv::Mat segmentRoi(const cv::Mat& points, double depthBandMm) {
     return mask;
 }
 
+double frameEdgeShare(const cv::Mat& mask) {
+    CV_Assert(mask.type() == CV_8UC1);
+    if (mask.rows < 2 || mask.cols < 2) return 0.0;
+    const int top = cv::countNonZero(mask.row(0)), bottom = cv::countNonZero(mask.row(mask.rows - 1));
+    const int left = cv::countNonZero(mask(cv::Range(1, mask.rows - 1), cv::Range(0, 1)));
+    const int right = cv::countNonZero(mask(cv::Range(1, mask.rows - 1), cv::Range(mask.cols - 1, mask.cols)));
+    const double edge = 2.0 * mask.cols + 2.0 * (mask.rows - 2);
+    return (top + bottom + left + right) / edge;
+}
+
 }  // namespace icewatch::volume

@@ -24,4 +24,10 @@ cv::Mat roiMaskFromPolygon(const std::vector<cv::Point2d>& polygon, const calib:
 // (the blade fills most of a well-aimed view), holes filled. Empty mask if nothing is found.
 cv::Mat segmentRoi(const cv::Mat& points, double depthBandMm);
 
+// The share of the frame's edge pixels that `mask` covers. An object in view reaches two sides of
+// the frame at most (a blade across it); a segmented region that reaches most of the edge is the
+// view itself: a featureless sky the matcher filled with the object's depth, or a table the
+// object lies on, at its depth too.
+double frameEdgeShare(const cv::Mat& mask);
+
 }  // namespace icewatch::volume

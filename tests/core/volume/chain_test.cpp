@@ -10,6 +10,7 @@
 #include "core/common/error.hpp"
 #include "core/synth/scene.hpp"
 #include "core/volume/capture_average.hpp"
+#include "core/volume/roi.hpp"
 
 namespace icewatch::volume {
 namespace {
@@ -202,6 +203,29 @@ TEST(VolumeChain, ABladeParkedAtAnotherPitchIsFollowedToItsEnds) {
 TEST(VolumeChain, RimePatchesOnABladeParkedAtAnotherPitchAreMeasured) {
     const AveragedBlade b = measureAveragedBlade(bladeParkedAtAnotherPitch(1, synth::IceKind::Patches), stereo::Method::Paper);
     ASSERT_NO_FATAL_FAILURE(expectMeasured(b, 0.3));
+}
+
+// Without an outline drawn, the region is found by depth alone. A blade lying on a table has the
+// table at its depth: the region was the whole view, and the chain said ok over a table a metre
+// across (-23 % against ±410 000 mm³ on 197 717). It refuses, and says to draw the outline.
+TEST(VolumeChain, WithoutAnOutlineABladeOnATableIsRefusedAndSaysToDrawIt) {
+    synth::SceneSpec spec = smallBladeSpec();
+    spec.background = synth::Background::Table;
+    spec.motion = synth::MotionKind::None;
+    spec.frames = 1;
+    const synth::SyntheticScene scene = synth::renderScene(spec);
+    Parameters p = sgbmParameters({});
+    p.stereoMethod = stereo::Method::Paper;
+    p.maxDisparity = 128;
+    VolumeChain chain(scene.calibration, p);
+    const Surface baseline = chain.measureSurface(cv::imdecode(scene.beforeJpeg.front(), cv::IMREAD_COLOR));
+    const Surface current = chain.measureSurface(cv::imdecode(scene.afterJpeg.front(), cv::IMREAD_COLOR), baseline);
+    EXPECT_TRUE(baseline.roiSegmented);
+    EXPECT_GT(frameEdgeShare(baseline.roi), 0.9) << "the table is at the blade's depth";
+    const VolumeResult r = chain.estimate(baseline, current);
+    EXPECT_FALSE(r.ok);
+    EXPECT_NE(r.reason.find("it is the view, not the object"), std::string::npos) << r.reason;
+    EXPECT_NE(r.reason.find("draw the object's outline"), std::string::npos) << r.reason;
 }
 
 // Both glazes of the renderer: one that veils the texture (seed 1) and one so clear that the texture
