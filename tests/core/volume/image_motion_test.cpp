@@ -123,8 +123,10 @@ TEST(ObjectImageMotion, FollowsATurnThatMovesTheEndsBeyondTheTrackersSearch) {
 }
 
 TEST(GlobalImageShift, FindsAShiftOfTensOfPixelsUnderNewIce) {
-    // Moved (18, -12) px, turned 0.5°, bright ice over half of it: the whole box's correlation at
-    // full resolution is a contest between the old texture and the new.
+    // Moved (18, -12) px, turned 0.5°, bright ice over half of it: at a quarter of the resolution
+    // the ice's own outline wins the correlation (-39, 9), at full resolution the texture does. The
+    // other way round (rime patches on a rendered blade, full resolution fooled) is
+    // VolumeChain.RimePatchesOnABladeParkedAtAnotherPitchAreMeasured.
     const cv::Matx23d truth = turnAndShift(0.5, {18.0, -12.0});
     const cv::Mat before = longObject(turnAndShift(0, {0, 0}));
     const cv::Mat after = longObject(truth, {cv::Rect(kLong.x + 100, kLong.y, 350, kLong.height)});
