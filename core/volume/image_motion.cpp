@@ -24,15 +24,16 @@ cv::Mat textureOf(const cv::Mat& image) {
     return grey - blurred;
 }
 
-// Tiles of 64 px, every 32 px: a blade's chord at 2560x720 holds one across (it is ~100 px), and
-// a phase correlation over 64 px finds a residual shift of the ~10 px a degree adds at the ends.
+// Tiles of 64 px, every 32 px: a blade's chord at 2560x720 holds one across (it is ~100 px).
 constexpr int kTilePx = 64;
 constexpr int kTileStepPx = 32;
 // A tile counts when the object covers most of it: the sky or a fixed table beside it would pull
 // its shift towards zero.
 constexpr double kTileObjectShare = 0.6;
-// RANSAC: a tile within this of the fitted map supports it (a phase correlation's sub-pixel peak
-// is not exact), and the map needs this many supporting tiles. A similarity, not an affine map: a
+// How far around its start a tile is looked for: the ~10 px a degree adds at a blade's ends.
+constexpr int kTileSearchPx = 16;
+// RANSAC: a tile within this of the fitted map supports it (a tile's sub-pixel peak is not
+// exact), and the map needs this many supporting tiles. A similarity, not an affine map: a
 // blade's chord holds one or two rows of tiles, too few to pin a shear or a stretch across it
 // (an affine fit put the corners of a turned test object 1.8 px off, a similarity 0.65 px).
 constexpr double kTileInlierPx = 1.5;
@@ -152,24 +153,45 @@ cv::Point2d globalImageShift(const cv::Mat& baselineLeft, const cv::Mat& current
 
 namespace {
 
+// Where the tile at `tile` of `from` lies in `to`, searched kTileSearchPx around `offset`: the peak
+// of the zero-mean normalised correlation, refined by a parabola through its neighbours. Not a
+// phase correlation: that whitens the spectrum, and a JPEG's 8x8 blocks, fixed to the image, then
+// weigh as much as the texture (at quality 75 every tile of a blade disagreed, and the fit
+// settled on a 20 px shift the texture's grain along the span allowed).
+std::optional<cv::Point2d> tileFound(const cv::Mat& from, const cv::Mat& to, const cv::Rect& tile, cv::Point offset) {
+    const cv::Rect area = cv::Rect(tile.tl() + offset - cv::Point(kTileSearchPx, kTileSearchPx),
+                                   tile.size() + cv::Size(2 * kTileSearchPx, 2 * kTileSearchPx));
+    if ((area & cv::Rect(cv::Point(0, 0), to.size())) != area) return std::nullopt;
+    cv::Mat score;
+    cv::matchTemplate(to(area), from(tile), score, cv::TM_CCOEFF_NORMED);
+    cv::Point peak;
+    cv::minMaxLoc(score, nullptr, nullptr, nullptr, &peak);
+    auto vertex = [](float before, float at, float after) {
+        const double curvature = before - 2.0 * at + after;
+        return curvature < 0 ? 0.5 * (before - after) / curvature : 0.0;
+    };
+    cv::Point2d sub(peak);
+    if (peak.x > 0 && peak.x + 1 < score.cols)
+        sub.x += vertex(score.at<float>(peak.y, peak.x - 1), score.at<float>(peak), score.at<float>(peak.y, peak.x + 1));
+    if (peak.y > 0 && peak.y + 1 < score.rows)
+        sub.y += vertex(score.at<float>(peak.y - 1, peak.x), score.at<float>(peak), score.at<float>(peak.y + 1, peak.x));
+    return cv::Point2d(offset) + sub - cv::Point2d(kTileSearchPx, kTileSearchPx);
+}
+
 // The similarity fitted to the tiles of the object's texture, each found again around where
 // `start` puts it; none when too few tiles agree on one.
 std::optional<cv::Matx23d> tileMotion(const cv::Mat& from, const cv::Mat& to, const cv::Mat& mask, const cv::Matx23d& start) {
-    const cv::Rect box = cv::boundingRect(mask), image(cv::Point(0, 0), mask.size());
-    cv::Mat window;
-    cv::createHanningWindow(window, cv::Size(kTilePx, kTilePx), CV_32F);
+    const cv::Rect box = cv::boundingRect(mask);
     std::vector<cv::Point2f> tilesBefore, tilesAfter;
     for (int y = box.y; y + kTilePx <= box.br().y; y += kTileStepPx)
         for (int x = box.x; x + kTilePx <= box.br().x; x += kTileStepPx) {
             const cv::Rect tile(x, y, kTilePx, kTilePx);
-            const cv::Point2d centre(x + 0.5 * (kTilePx - 1), y + 0.5 * (kTilePx - 1));
-            const cv::Point offset = rounded(mapped(start, centre) - centre);
-            const cv::Rect moved = tile + offset;
-            if ((moved & image) != moved) continue;
             if (cv::countNonZero(mask(tile)) < kTileObjectShare * tile.area()) continue;
-            const cv::Point2d residual = cv::phaseCorrelate(from(tile), to(moved), window);
+            const cv::Point2d centre(x + 0.5 * (kTilePx - 1), y + 0.5 * (kTilePx - 1));
+            const std::optional<cv::Point2d> moved = tileFound(from, to, tile, rounded(mapped(start, centre) - centre));
+            if (!moved) continue;
             tilesBefore.emplace_back(centre);
-            tilesAfter.emplace_back(centre + cv::Point2d(offset) + residual);
+            tilesAfter.emplace_back(centre + *moved);
         }
     if (static_cast<int>(tilesBefore.size()) < kMinTiles) return std::nullopt;
     std::vector<std::uint8_t> inliers;
@@ -189,8 +211,8 @@ cv::Matx23d objectImageMotion(const cv::Mat& baselineLeft, const cv::Mat& curren
     const cv::Mat from = textureOf(baselineLeft), to = textureOf(currentLeft);
     // The tiles start where the global shift puts them, where the confirmed shift does and in
     // place: a wrong global peak, or a turn that decorrelates the whole box, leaves the others.
-    // Each map found is refined once from tiles started where it puts them: their residuals are
-    // then small, where a phase correlation is most exact.
+    // Each map found is refined once from tiles started where it puts them: a turned tile is
+    // found again best where it is least turned against its start.
     std::vector<cv::Matx23d> candidates{translation(fallback)};
     std::vector<cv::Point> starts;
     for (const cv::Point2d s : {start, fallback, cv::Point2d(0, 0)}) {

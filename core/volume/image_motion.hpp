@@ -27,7 +27,7 @@ cv::Matx23d translation(cv::Point2d shift);
 // The map `at` takes a pixel to.
 cv::Point2d mapped(const cv::Matx23d& motion, cv::Point2d at);
 
-// The object's motion from tiles of its texture, each found again by phase correlation, and a
+// The object's motion from tiles of its texture, each found again by normalised correlation, and a
 // similarity (shift, turn, scale) fitted to them with RANSAC; ice changes or hides the texture of
 // the tiles it covers, and those fall out of the fit. The tiles are looked for around `start` (the
 // global shift), around `fallback` (the confirmed shift) and in place; of those maps and the
