@@ -66,6 +66,12 @@ struct Parameters {
     // what it hides (silhouette.hpp): a pixel whose grey changed by at least this much (and four
     // times the background's own change).
     double outlineMinContrastGrey = 3.0;
+    // Beside the ice seen that way, the matcher read the outline against the ice in the current
+    // capture and against the sky in the baseline, whose featureless pixels it fills with an
+    // arbitrary depth: its aggregation pulls the outline's surface towards it within this many
+    // pixels (on a rendered bead, against the truth: the baseline 0.15 px nearer at 2-4 px from
+    // the outline, 0.03 px at 10-12 px, the current capture within 0.03 px throughout).
+    int outlineFringePx = 12;
 
     // --- outlier filter (the seed paper, section 2.2) ---
     int knnK = 8;             // neighbours in the plane

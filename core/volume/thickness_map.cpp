@@ -49,7 +49,7 @@ GridSpec regionGrid(const cv::Mat& roi, const PlaneFrame& plane, const cv::Matx3
 // Where the baseline saw featureless background (`bare`) and the current capture hides it: the ice
 // tapered from the outline's (taperedIce), into map.thickness, map.beyond and map.tapered.
 void addTaperedIce(ThicknessMap& map, const cv::Mat& rise, const cv::Mat& bare, const HiddenBackground& hidden,
-                   const PlaneFrame& plane, const cv::Matx33d& k, double minRiseMm, int gapNodes) {
+                   const PlaneFrame& plane, const cv::Matx33d& k, double minRiseMm, int gapNodes, int fringeNodes) {
     const GridSpec& grid = map.grid;
     // As high on the outline as the ice on the region's nearest nodes, averaged over a few.
     cv::Mat edge = map.thickness.clone();
@@ -83,6 +83,13 @@ void addTaperedIce(ThicknessMap& map, const cv::Mat& rise, const cv::Mat& bare, 
     tapered.copyTo(map.thickness, map.tapered);
     map.beyond |= map.tapered;
     map.taperedNodes = cv::countNonZero(map.tapered);
+    // Where it stands, the outline's surface was read against the ice now and against the sky
+    // before: the ice inside within the matcher's pull of it (its uncertainty, uncertainty.hpp).
+    if (map.taperedNodes > 0 && fringeNodes > 0) {
+        cv::dilate(map.tapered, map.fringe,
+                   cv::getStructuringElement(cv::MORPH_ELLIPSE, {2 * fringeNodes + 1, 2 * fringeNodes + 1}));
+        map.fringe &= map.inside & map.onIce;
+    }
 }
 
 }  // namespace
@@ -149,7 +156,10 @@ ThicknessMap thicknessMap(const PlaneClouds& clouds, const cv::Mat& roi, const c
     const int gapNodes = static_cast<int>(std::ceil(p.edgeMarginPx * pixelMm / std::min(grid.du, grid.dv)));
     map.beyond = iceBeyondOutline(rise, map.inside, minRiseMm, gapNodes, noiseMm);
     rise.copyTo(map.thickness, map.beyond);
-    if (!hidden.pixels.empty()) addTaperedIce(map, rise, bare, hidden, plane, k, minRiseMm, gapNodes);
+    if (!hidden.pixels.empty()) {
+        const int fringeNodes = static_cast<int>(std::ceil(p.outlineFringePx * pixelMm / std::min(grid.du, grid.dv)));
+        addTaperedIce(map, rise, bare, hidden, plane, k, minRiseMm, gapNodes, fringeNodes);
+    }
     map.onIce.setTo(255, map.beyond);
     map.beyondNodes = cv::countNonZero(map.beyond);
     map.iceNodes += map.beyondNodes;

@@ -18,6 +18,7 @@ struct ThicknessMap {
     cv::Mat onIce;           // CV_8U per node: within the ice mask, or ice beyond the outline
     cv::Mat beyond;          // CV_8U per node: ice standing out of the outline (beyond_outline.hpp)
     cv::Mat tapered;         // CV_8U per node: the part of `beyond` seen only by the background it hides
+    cv::Mat fringe;          // CV_8U per node: ice inside the outline within outline_fringe_px of `tapered`
     int insideNodes = 0, iceNodes = 0, beyondNodes = 0, taperedNodes = 0;
     int filledNodes = 0;     // ice nodes without a measurement, filled from the nearest
 };

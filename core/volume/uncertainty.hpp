@@ -15,8 +15,9 @@ struct UncertaintyBudget {
     double pushMm3 = 0;           // the matcher's change departing from the tracks' (matcher_push.hpp)
     double biasMm3 = 0;           // systematic sub-pixel disparity bias
     double edgeMm3 = 0;           // where the ice's edges are
-    double outlineMm3 = 0;        // ice at the outline: the footing of what stands out of it, and what may
-                                  // stand out of it unseen (beyond_outline.hpp)
+    double outlineMm3 = 0;        // ice at the outline: the footing of what stands out of it, what may
+                                  // stand out of it unseen (beyond_outline.hpp), and the matcher's
+                                  // pull beside what stands out of it against featureless sky
     double scaleMm3 = 0;          // the depth scale and the matcher's response on ice, relative to the volume
 };
 

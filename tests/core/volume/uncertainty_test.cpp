@@ -66,5 +66,39 @@ TEST(VolumeUncertainty, IceOnTheOutlineMayStandOutOfItWhereTheRingIsBlind) {
     EXPECT_NEAR(volumeUncertainty(map, plane, {}, {}, view, p, 800.0).outlineMm3, 1.5 * 20 * 4.0, 1e-9);
 }
 
+// Ice seen standing out of the outline only by the sky it hides is tapered from the height read on
+// the outline, and beside it the matcher read the outline against the ice now and against the sky
+// before: the ice tapered and the ice read within outline_fringe_px of it may be as much again.
+TEST(VolumeUncertainty, IceBesideWhatStandsOutAgainstTheSkyMayBeAsMuchAgain) {
+    ThicknessMap map = flatMap();
+    PlaneFrame plane;
+    plane.origin = {0, 0, 1000};
+    const ViewGeometry view{1000.0, 60.0, 1000.0};  // 1 mm a pixel
+    Parameters p;
+    p.edgeMarginPx = 3;
+    p.outlineFootingMm = 1.5;
+    // The top row beyond the outline, tapered, 1 mm thick.
+    map.inside.row(0).setTo(0);
+    map.beyond = cv::Mat::zeros(10, 20, CV_8U);
+    map.beyond.row(0).setTo(255);
+    map.tapered = map.beyond.clone();
+    map.beyondNodes = map.taperedNodes = 20;
+    const double blindMm = 3.0 + kRingPatchRadiusPx;
+    const double footing = 1.5 * 20 * 4.0;
+    const double unseen = blindMm * (120.0 - 40.0 - 4.0) / std::sqrt(3.0);
+    const double tapered = 20 * 4.0;
+    const double shape = tapered * (0.5 / std::sqrt(12.0)) / (2.0 / 3.0);
+    auto outline = [&](double pull) { return std::sqrt(footing * footing + unseen * unseen + shape * shape + pull * pull); };
+    EXPECT_NEAR(volumeUncertainty(map, plane, {}, {}, view, p, 800.0).outlineMm3, outline(tapered / std::sqrt(3.0)), 1e-9);
+    map.fringe = cv::Mat::zeros(10, 20, CV_8U);
+    // Off the sides, whose nodes are on the outline (what may stand out of it unseen stays as it was).
+    const cv::Rect pulled(1, 1, 18, 3);
+    map.fringe(pulled).setTo(255);
+    map.thickness(pulled).setTo(2.0);
+    const double fringe = 54 * 2.0 * 4.0;
+    EXPECT_NEAR(volumeUncertainty(map, plane, {}, {}, view, p, 800.0).outlineMm3,
+                outline((tapered + fringe) / std::sqrt(3.0)), 1e-6);
+}
+
 }  // namespace
 }  // namespace icewatch::volume
