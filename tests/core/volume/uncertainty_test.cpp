@@ -21,6 +21,19 @@ ThicknessMap flatMap() {
     return map;
 }
 
+// The outline tests' view: the plane 1 m away, 1 mm a pixel, an edge margin of 3 px and a footing
+// known to 1.5 mm.
+struct OutlineView {
+    PlaneFrame plane;
+    ViewGeometry view{1000.0, 60.0, 1000.0};
+    Parameters p;
+    OutlineView() {
+        plane.origin = {0, 0, 1000};
+        p.edgeMarginPx = 3;
+        p.outlineFootingMm = 1.5;
+    }
+};
+
 TEST(VolumeUncertainty, ThePushCountsWithWhatIsNotKnownOfIt) {
     const ThicknessMap map = flatMap();
     PlaneFrame plane;
@@ -45,12 +58,10 @@ TEST(VolumeUncertainty, ThePushCountsWithWhatIsNotKnownOfIt) {
 TEST(VolumeUncertainty, IceOnTheOutlineMayStandOutOfItWhereTheRingIsBlind) {
     ThicknessMap map = flatMap();
     map.beyond = cv::Mat::zeros(10, 20, CV_8U);
-    PlaneFrame plane;
-    plane.origin = {0, 0, 1000};
-    const ViewGeometry view{1000.0, 60.0, 1000.0};  // 1 mm a pixel
-    Parameters p;
-    p.edgeMarginPx = 3;
-    p.outlineFootingMm = 1.5;
+    const OutlineView o;
+    const PlaneFrame& plane = o.plane;
+    const ViewGeometry& view = o.view;
+    const Parameters& p = o.p;
     const double blindMm = 3.0 + kRingPatchRadiusPx;
     // The whole border of the 40 x 20 mm grid, 1 mm thick: 120 mm of outline.
     EXPECT_NEAR(volumeUncertainty(map, plane, {}, {}, view, p, 800.0).outlineMm3, blindMm * 120.0 / std::sqrt(3.0), 1e-9);
@@ -71,12 +82,10 @@ TEST(VolumeUncertainty, IceOnTheOutlineMayStandOutOfItWhereTheRingIsBlind) {
 // before: the ice tapered and the ice read within outline_fringe_px of it may be as much again.
 TEST(VolumeUncertainty, IceBesideWhatStandsOutAgainstTheSkyMayBeAsMuchAgain) {
     ThicknessMap map = flatMap();
-    PlaneFrame plane;
-    plane.origin = {0, 0, 1000};
-    const ViewGeometry view{1000.0, 60.0, 1000.0};  // 1 mm a pixel
-    Parameters p;
-    p.edgeMarginPx = 3;
-    p.outlineFootingMm = 1.5;
+    const OutlineView o;
+    const PlaneFrame& plane = o.plane;
+    const ViewGeometry& view = o.view;
+    const Parameters& p = o.p;
     // The top row beyond the outline, tapered, 1 mm thick.
     map.inside.row(0).setTo(0);
     map.beyond = cv::Mat::zeros(10, 20, CV_8U);
