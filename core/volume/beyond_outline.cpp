@@ -130,8 +130,9 @@ cv::Mat iceBeyondOutline(const cv::Mat& riseMm, const cv::Mat& inside, double mi
 }
 
 cv::Mat taperedIce(const cv::Mat& hidden, const cv::Mat& inside, const cv::Mat& edgeThicknessMm, double minThicknessMm,
-                   int gapNodes, cv::Mat& thickness) {
+                   int gapNodes, cv::Mat& thickness, cv::Mat* thinMm) {
     CV_Assert(hidden.type() == CV_8UC1 && inside.type() == CV_8UC1 && hidden.size() == inside.size());
+    if (thinMm) CV_Assert(thinMm->type() == CV_64FC1 && thinMm->size() == inside.size());
     CV_Assert(edgeThicknessMm.type() == CV_64FC1 && edgeThicknessMm.size() == inside.size());
     CV_Assert(thickness.type() == CV_64FC1 && thickness.size() == inside.size());
     // The nodes between the region and what hides the background, up to gapNodes wide, stand too;
@@ -157,9 +158,12 @@ cv::Mat taperedIce(const cv::Mat& hidden, const cv::Mat& inside, const cv::Mat& 
         for (int i = 0; i < inside.cols; ++i) {
             if (!standing.at<std::uint8_t>(j, i)) continue;
             const double height = edgeThicknessMm.at<double>(j, i);
-            if (!(height >= minThicknessMm)) continue;
             const double in = toRegion.at<float>(j, i) - 0.5, out = toBackground.at<float>(j, i) - 0.5;
             const double t = in / std::max(1e-9, in + out);
+            if (!(height >= minThicknessMm)) {
+                if (thinMm) thinMm->at<double>(j, i) = minThicknessMm * (1.0 - t * t);
+                continue;
+            }
             thickness.at<double>(j, i) = height * (1.0 - t * t);
             ice.at<std::uint8_t>(j, i) = 255;
         }

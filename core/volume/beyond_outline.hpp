@@ -53,7 +53,10 @@ cv::Mat iceBeyondOutline(const cv::Mat& riseMm, const cv::Mat& inside, double mi
 // the background too). Next to the outline the background could not be compared (the baseline
 // showed the object there): nodes between the region and a hidden part, up to gapNodes wide,
 // stand too. Writes the thickness into `thickness` (CV_64F) on the nodes it returns (CV_8U, 255).
+// With `thinMm` (CV_64F, the size of `inside`), the parts that stand but whose outline read under
+// minThicknessMm get there the thickness they would have with minThicknessMm on the outline, and
+// NaN elsewhere: not ice, but the least that would have counted, should the outline read too thin.
 cv::Mat taperedIce(const cv::Mat& hidden, const cv::Mat& inside, const cv::Mat& edgeThicknessMm, double minThicknessMm,
-                   int gapNodes, cv::Mat& thickness);
+                   int gapNodes, cv::Mat& thickness, cv::Mat* thinMm = nullptr);
 
 }  // namespace icewatch::volume

@@ -78,15 +78,20 @@ void addTaperedIce(ThicknessMap& map, const cv::Mat& rise, const cv::Mat& bare, 
     cv::Mat nearBare;
     cv::dilate(bare, nearBare, cv::getStructuringElement(cv::MORPH_RECT, {2 * hiddenGapNodes + 1, 2 * hiddenGapNodes + 1}));
     cv::Mat tapered(grid.nv, grid.nu, CV_64F, cv::Scalar(kNaN));
-    map.tapered =
-        taperedIce(hiddenNodes | measured, map.inside, edge, minRiseMm, hiddenGapNodes, tapered) & nearBare & ~seenUnder;
+    map.thinBeyondMm = cv::Mat(grid.nv, grid.nu, CV_64F, cv::Scalar(kNaN));
+    map.tapered = taperedIce(hiddenNodes | measured, map.inside, edge, minRiseMm, hiddenGapNodes, tapered,
+                             &map.thinBeyondMm) &
+                  nearBare & ~seenUnder;
+    map.thinBeyondMm.setTo(kNaN, ~(nearBare & ~seenUnder));
     tapered.copyTo(map.thickness, map.tapered);
     map.beyond |= map.tapered;
     map.taperedNodes = cv::countNonZero(map.tapered);
-    // Where it stands, the outline's surface was read against the ice now and against the sky
-    // before: the ice inside within the matcher's pull of it (its uncertainty, uncertainty.hpp).
-    if (map.taperedNodes > 0 && fringeNodes > 0) {
-        cv::dilate(map.tapered, map.fringe,
+    // Where it stands (or what hides the background where the outline reads too thin for ice),
+    // the outline's surface was read against it now and against the sky before: the ice inside
+    // within the matcher's pull of it (its uncertainty, uncertainty.hpp).
+    const cv::Mat standing = map.tapered | (map.thinBeyondMm == map.thinBeyondMm);  // NaN != NaN
+    if (fringeNodes > 0 && cv::countNonZero(standing) > 0) {
+        cv::dilate(standing, map.fringe,
                    cv::getStructuringElement(cv::MORPH_ELLIPSE, {2 * fringeNodes + 1, 2 * fringeNodes + 1}));
         map.fringe &= map.inside & map.onIce;
     }

@@ -18,7 +18,10 @@ struct ThicknessMap {
     cv::Mat onIce;           // CV_8U per node: within the ice mask, or ice beyond the outline
     cv::Mat beyond;          // CV_8U per node: ice standing out of the outline (beyond_outline.hpp)
     cv::Mat tapered;         // CV_8U per node: the part of `beyond` seen only by the background it hides
+    cv::Mat thinBeyondMm;    // CV_64F per node: what hides the background where the outline read too thin for
+                             // ice (not counted), at the least that would have counted; NaN elsewhere
     cv::Mat fringe;          // CV_8U per node: ice inside the outline within outline_fringe_px of `tapered`
+                             // or of `thinBeyondMm`
     int insideNodes = 0, iceNodes = 0, beyondNodes = 0, taperedNodes = 0;
     int filledNodes = 0;     // ice nodes without a measurement, filled from the nearest
 };

@@ -130,15 +130,22 @@ UncertaintyBudget volumeUncertainty(const ThicknessMap& map, const PlaneFrame& p
     // rendered beads the whole read 10-40 % low (hand-run against the truth: a 257 391 mm3 bead at
     // JPEG quality 75 lost 23 % inside the outline, four fifths of it within 12 px of it, and in
     // front of it read 70 091 mm3 where quality 90 read 94 631). As much again as was read, or
-    // none of it: 1/sqrt(3).
-    double fringeMm3 = 0;
-    if (!map.fringe.empty()) {
-        for (int j = 0; j < map.grid.nv; ++j)
-            for (int i = 0; i < map.grid.nu; ++i)
-                if (map.fringe.at<std::uint8_t>(j, i)) fringeMm3 += std::max(0.0, map.thickness.at<double>(j, i));
-        fringeMm3 *= map.grid.areaPerNodeMm2();
-    }
-    const double pullMm3 = (fringeMm3 + taperedMm3) / std::sqrt(3.0);
+    // none of it: 1/sqrt(3). What hid the background where the outline read too thin for ice is
+    // not counted (a cloud behind a clean edge hides it too); it may be ice as high on the outline
+    // as the least that counts, or more as the same pull goes.
+    double fringeMm3 = 0, thinMm3 = 0;
+    for (int j = 0; j < map.grid.nv; ++j)
+        for (int i = 0; i < map.grid.nu; ++i) {
+            if (!map.fringe.empty() && map.fringe.at<std::uint8_t>(j, i)) {
+                fringeMm3 += std::max(0.0, map.thickness.at<double>(j, i));
+            }
+            if (!map.thinBeyondMm.empty() && !std::isnan(map.thinBeyondMm.at<double>(j, i))) {
+                thinMm3 += map.thinBeyondMm.at<double>(j, i);
+            }
+        }
+    fringeMm3 *= map.grid.areaPerNodeMm2();
+    thinMm3 *= map.grid.areaPerNodeMm2();
+    const double pullMm3 = (fringeMm3 + taperedMm3 + thinMm3) / std::sqrt(3.0);
     b.outlineMm3 = std::sqrt(footingMm3 * footingMm3 + unseenMm3 * unseenMm3 + shapeMm3 * shapeMm3 + pullMm3 * pullMm3);
     return b;
 }

@@ -129,6 +129,14 @@ TEST(BeyondOutline, IceSeenByTheBackgroundItHidesIsTaperedFromTheOutlinesHeight)
     for (int j = 0; j < 20; ++j)
         if (ice.at<std::uint8_t>(j, 20)) column += thickness.at<double>(j, 20);
     EXPECT_NEAR(column, 2.0 / 3.0 * 6.0 * 8.0, 3.0);
+    // What stands where the outline reads too thin (the cloud) is not ice, but the least that
+    // would have counted is kept for the budget; not for the bead, nor for the bird off the edge.
+    cv::Mat thin(40, 60, CV_64F, cv::Scalar(kNaN));
+    EXPECT_EQ(cv::countNonZero(taperedIce(hidden, inside, edge, 2.0, 3, thickness, &thin) != ice), 0);
+    EXPECT_NEAR(thin.at<double>(19, 45), 2.0, 0.3);
+    EXPECT_LT(thin.at<double>(16, 45), thin.at<double>(19, 45));
+    EXPECT_TRUE(std::isnan(thin.at<double>(15, 20)));
+    EXPECT_TRUE(std::isnan(thin.at<double>(3, 42)));
 }
 
 // A slanted outline is a staircase on the grid: closing the gap between the region and what hides

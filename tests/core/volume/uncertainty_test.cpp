@@ -1,6 +1,7 @@
 #include "core/volume/uncertainty.hpp"
 
 #include <cmath>
+#include <limits>
 
 #include <gtest/gtest.h>
 
@@ -107,6 +108,12 @@ TEST(VolumeUncertainty, IceBesideWhatStandsOutAgainstTheSkyMayBeAsMuchAgain) {
     const double fringe = 54 * 2.0 * 4.0;
     EXPECT_NEAR(volumeUncertainty(map, plane, {}, {}, view, p, 800.0).outlineMm3,
                 outline((tapered + fringe) / std::sqrt(3.0)), 1e-6);
+    // What hid the background where the outline read too thin for ice: the least that would have
+    // counted, 1.5 mm on two nodes, may be there too.
+    map.thinBeyondMm = cv::Mat(10, 20, CV_64F, cv::Scalar(std::numeric_limits<double>::quiet_NaN()));
+    map.thinBeyondMm.at<double>(0, 3) = map.thinBeyondMm.at<double>(0, 4) = 1.5;
+    EXPECT_NEAR(volumeUncertainty(map, plane, {}, {}, view, p, 800.0).outlineMm3,
+                outline((tapered + fringe + 2 * 1.5 * 4.0) / std::sqrt(3.0)), 1e-6);
 }
 
 }  // namespace
