@@ -114,28 +114,20 @@ UncertaintyBudget volumeUncertainty(const ThicknessMap& map, const PlaneFrame& p
     // on the outline (a bead of a few pixels; anything from none to all of it, 1/sqrt(3)).
     const double blindMm = (p.edgeMarginPx + kRingPatchRadiusPx) * pixelMm;
     const double unseenMm3 = blindMm * outlineIceIntegral(map) / std::sqrt(3.0);
-    // Ice seen only by the background it hides is tapered from the outline's height to nothing as a
-    // rounded bead (2/3 of height times width); a wedge (1/2) and a block (1) bound it, uniformly.
-    double taperedMm3 = 0;
-    if (map.taperedNodes > 0) {
-        for (int j = 0; j < map.grid.nv; ++j)
-            for (int i = 0; i < map.grid.nu; ++i)
-                if (map.tapered.at<std::uint8_t>(j, i)) taperedMm3 += map.thickness.at<double>(j, i);
-        taperedMm3 *= map.grid.areaPerNodeMm2();
-    }
-    const double shapeMm3 = taperedMm3 * (0.5 / std::sqrt(12.0)) / (2.0 / 3.0);
-    // And where such ice stands, the outline's surface was read against it now and against the
+    // Where ice seen only by the background it hides stands (it is tapered from the outline's
+    // height, below), the outline's surface was read against it now and against the
     // featureless sky, filled with an arbitrary depth, in the baseline: the matcher's pull differs
     // between the captures there, and the ice tapered from the outline's height inherits it. On
-    // rendered beads the whole read 10-40 % low (hand-run against the truth: a 257 391 mm3 bead at
-    // JPEG quality 75 lost 23 % inside the outline, four fifths of it within 12 px of it, and in
-    // front of it read 70 091 mm3 where quality 90 read 94 631). As much again as was read, or
-    // none of it: 1/sqrt(3). What hid the background where the outline read too thin for ice is
-    // not counted (a cloud behind a clean edge hides it too); it may be ice as high on the outline
-    // as the least that counts, or more as the same pull goes.
-    double fringeMm3 = 0, thinMm3 = 0;
+    // rendered beads against the sky the whole read 4-67 % low (hand-run against the truth: a
+    // 257 391 mm3 bead at JPEG quality 75 lost 23 % inside the outline, four fifths of it within
+    // 12 px of it, and in front of it read 70 091 mm3 where quality 90 read 94 631). As much again
+    // as was read, or none of it: 1/sqrt(3). What hid the background where the outline read too
+    // thin for ice is not counted (a cloud behind a clean edge hides it too); it may be ice as high
+    // on the outline as the least that counts, or more as the same pull goes.
+    double taperedMm3 = 0, fringeMm3 = 0, thinMm3 = 0;
     for (int j = 0; j < map.grid.nv; ++j)
         for (int i = 0; i < map.grid.nu; ++i) {
+            if (map.taperedNodes > 0 && map.tapered.at<std::uint8_t>(j, i)) taperedMm3 += map.thickness.at<double>(j, i);
             if (!map.fringe.empty() && map.fringe.at<std::uint8_t>(j, i)) {
                 fringeMm3 += std::max(0.0, map.thickness.at<double>(j, i));
             }
@@ -143,8 +135,12 @@ UncertaintyBudget volumeUncertainty(const ThicknessMap& map, const PlaneFrame& p
                 thinMm3 += map.thinBeyondMm.at<double>(j, i);
             }
         }
+    taperedMm3 *= map.grid.areaPerNodeMm2();
     fringeMm3 *= map.grid.areaPerNodeMm2();
     thinMm3 *= map.grid.areaPerNodeMm2();
+    // Ice seen only by the background it hides is tapered from the outline's height to nothing as a
+    // rounded bead (2/3 of height times width); a wedge (1/2) and a block (1) bound it, uniformly.
+    const double shapeMm3 = taperedMm3 * (0.5 / std::sqrt(12.0)) / (2.0 / 3.0);
     const double pullMm3 = (fringeMm3 + taperedMm3 + thinMm3) / std::sqrt(3.0);
     b.outlineMm3 = std::sqrt(footingMm3 * footingMm3 + unseenMm3 * unseenMm3 + shapeMm3 * shapeMm3 + pullMm3 * pullMm3);
     return b;
