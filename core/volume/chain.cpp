@@ -277,16 +277,6 @@ Surface VolumeChain::Impl::measure(StereoPair raw, const Surface* baseline) {
     else {
         s.roi = segmentRoi(points, parameters.segmentationBandMm);
         s.roiSegmented = true;
-        const double edge = frameEdgeShare(s.roi);
-        if (edge > kMaxSegmentedEdgeShare) {
-            std::ostringstream problem;
-            problem.precision(3);
-            problem << "the region found at the object's depth reaches " << 100.0 * edge
-                    << " % of the frame's edge: it is the view, not the object (a surface it lies on, or a "
-                       "featureless sky the matcher filled)"
-                    << kNoOutlineHint;
-            s.roiProblem = problem.str();
-        }
     }
     s.quality = measureImageQuality(s.rectifiedLeft, s.roi);
     const int inside = cv::countNonZero(s.roi);
@@ -375,7 +365,18 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
 
     // --- gate on the images ---
     if (cv::countNonZero(baseline.roi) == 0) return refused(result, "no region of interest in the baseline");
-    if (!baseline.roiProblem.empty()) return refused(result, baseline.roiProblem);
+    if (baseline.roiSegmented) {
+        // A segmented region that is the view rather than an object: it reaches most of the frame's edge.
+        if (const double edge = frameEdgeShare(baseline.roi); edge > kMaxSegmentedEdgeShare) {
+            std::ostringstream problem;
+            problem.precision(3);
+            problem << "the region found at the object's depth reaches " << 100.0 * edge
+                    << " % of the frame's edge: it is the view, not the object (a surface it lies on, or a "
+                       "featureless sky the matcher filled)"
+                    << kNoOutlineHint;
+            return refused(result, problem.str());
+        }
+    }
     for (const auto& [surface, which] : {std::pair{&baseline, "baseline"}, std::pair{&current, "current"}}) {
         if (auto problem = imageProblem(surface->quality, p, which)) {
             // A segmented region may hold featureless sky the matcher filled with the object's depth.

@@ -44,9 +44,6 @@ struct Surface {
     std::string regionProblem;
     // The region was found by depth, no outline having been drawn (or kept from a baseline's).
     bool roiSegmented = false;
-    // A baseline's region segmented without an outline that is the view rather than an object (it
-    // reaches most of the frame's edge); empty when it is an object, or was drawn.
-    std::string roiProblem;
     // The scene's shift took the region out of the matched box but the region was not found there
     // either: the reason given when the registration then finds no evidence.
     std::string regionHint;
