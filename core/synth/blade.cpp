@@ -184,7 +184,8 @@ GridSurface beadFront(IceKind ice, std::uint32_t seed, double beadOverMm) {
     return s;
 }
 
-Mesh bladeMesh(const GridSurface& s, double iceScale, const Pose& pose, const Look& look, int material) {
+Mesh bladeMesh(const GridSurface& s, double iceScale, const Pose& pose, const Look& look, int material,
+               IceOptics optics) {
     Mesh mesh;
     mesh.material = material;
     mesh.vertices.resize(s.local.size());
@@ -195,10 +196,27 @@ Mesh bladeMesh(const GridSurface& s, double iceScale, const Pose& pose, const Lo
     const auto normals = gridNormals(s, mesh.vertices);
     mesh.attributes.resize(s.local.size());
     for (std::size_t k = 0; k < s.local.size(); ++k) {
-        mesh.attributes[k] = {static_cast<float>(s.local[k][0]), static_cast<float>(s.local[k][1]),
-                              lambert(look, normals[k]), static_cast<float>(iceScale * s.ice[k])};
+        const auto a = static_cast<float>(s.local[k][0]), b = static_cast<float>(s.local[k][1]);
+        mesh.attributes[k] = {a, b, lambert(look, normals[k]), static_cast<float>(iceScale * s.ice[k]), a, b};
     }
     mesh.triangles = gridTriangles(s.nu, s.nv);
+    if (optics == IceOptics::Refractive && iceScale > 0 && material == kMaterialBlade) {
+        // The blade under its ice, for each eye to see through it (refraction.hpp). Its surface
+        // coordinates are the object frame's x and y: (x, y) = Rᵀ·(p − t), the first two rows.
+        ClearLayer layer;
+        layer.under.resize(s.local.size());
+        for (std::size_t k = 0; k < s.local.size(); ++k) {
+            const cv::Vec3d& p = s.local[k];
+            layer.under[k] = pose.toCamera(p[0], p[1], p[2]);
+        }
+        layer.underNormal = gridNormals(s, layer.under);
+        layer.normal = normals;
+        const cv::Matx33d toObject = pose.rotation.t();
+        layer.textureAxes = cv::Matx23d(toObject(0, 0), toObject(0, 1), toObject(0, 2),
+                                        toObject(1, 0), toObject(1, 1), toObject(1, 2));
+        layer.textureOrigin = pose.translation;
+        mesh.clearLayer = std::move(layer);
+    }
     return mesh;
 }
 

@@ -23,8 +23,10 @@ GridSurface bladeSurface(IceKind ice, std::uint32_t seed, double beadOverMm = kB
 GridSurface beadFront(IceKind ice, std::uint32_t seed, double beadOverMm = kBeadReferenceMm);
 
 // The blade as rendered: clean (iceScale 0) or iced, posed in the camera frame; `material` the
-// blade's, or kMaterialBeadFront for beadFront's grid.
-Mesh bladeMesh(const GridSurface& s, double iceScale, const Pose& pose, const Look& look, int material = kMaterialBlade);
+// blade's, or kMaterialBeadFront for beadFront's grid. With refractive optics the iced blade carries
+// its ice as a clear layer for the eyes to see the blade through (refraction.hpp).
+Mesh bladeMesh(const GridSurface& s, double iceScale, const Pose& pose, const Look& look, int material = kMaterialBlade,
+               IceOptics optics = IceOptics::Painted);
 
 // The blade's outline on its flat side, leading edge root to tip then trailing edge tip to root,
 // every stride-th grid point, posed in the camera frame.

@@ -6,6 +6,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/stereo/matcher.hpp"
+#include "core/synth/refraction.hpp"
 
 namespace icewatch::synth {
 
@@ -29,7 +30,7 @@ EyeTruth truthFromSamples(const SampleBuffer& samples, int supersampling, cv::Si
                         break;
                     }
                     inverseDepth += samples.inverseDepth.at<float>(sy, sx);
-                    ice += samples.attributes.at<cv::Vec4f>(sy, sx)[3];
+                    ice += samples.attributes.at<VertexAttributes>(sy, sx)[kAttributeExtra];
                 }
             const float none = stereo::kInvalidDisparity;
             truth.disparity.at<float>(y, x) = whole ? static_cast<float>(focalPx * baselineMm * inverseDepth / (s * s)) : none;
@@ -49,14 +50,18 @@ cv::Mat renderEye(const std::vector<Mesh>& meshes, const Shading& shading, const
     view.cyPx = (calibration.M1.at<double>(1, 2) + 0.5) * supersampling - 0.5;
     view.centreXMm = centreXMm;
     view.size = {eye.width * supersampling, eye.height * supersampling};
-    const SampleBuffer samples = rasterize(meshes, view);
+    // Each eye sees what lies under clear ice along its own rays.
+    std::vector<Mesh> seen;
+    seen.reserve(meshes.size());
+    for (const Mesh& mesh : meshes) seen.push_back(seenThroughClearLayer(mesh, centreXMm));
+    const SampleBuffer samples = rasterize(seen, view);
     cv::Mat fine(view.size, CV_32F);
     // Rows in fixed stripes: each sample is a pure function of its inputs, so the result does not
     // depend on the thread count.
     cv::parallel_for_(cv::Range(0, view.size.height), [&](const cv::Range& rows) {
         for (int y = rows.start; y < rows.end; ++y) {
             const auto* material = samples.material.ptr<int>(y);
-            const auto* attributes = samples.attributes.ptr<cv::Vec4f>(y);
+            const auto* attributes = samples.attributes.ptr<VertexAttributes>(y);
             auto* out = fine.ptr<float>(y);
             const float skyY = 1.0f - static_cast<float>(y) / view.size.height;
             for (int x = 0; x < view.size.width; ++x) {

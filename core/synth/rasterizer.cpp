@@ -13,7 +13,7 @@ SampleBuffer rasterize(const std::vector<Mesh>& meshes, const PinholeView& view)
     SampleBuffer buffer;
     buffer.inverseDepth = cv::Mat::zeros(view.size, CV_32F);
     buffer.material = cv::Mat(view.size, CV_32S, cv::Scalar(-1));
-    buffer.attributes = cv::Mat::zeros(view.size, CV_32FC4);
+    buffer.attributes = cv::Mat::zeros(view.size, CV_32FC(VertexAttributes::channels));
     const int width = view.size.width, height = view.size.height;
 
     std::vector<cv::Vec3d> projected;
@@ -40,14 +40,14 @@ SampleBuffer rasterize(const std::vector<Mesh>& meshes, const PinholeView& view)
             const int x1 = std::min(width - 1, static_cast<int>(std::floor(std::max({p0[0], p1[0], p2[0]}))));
             const int y0 = std::max(0, static_cast<int>(std::ceil(std::min({p0[1], p1[1], p2[1]}))));
             const int y1 = std::min(height - 1, static_cast<int>(std::floor(std::max({p0[1], p1[1], p2[1]}))));
-            const cv::Vec4f& a0 = mesh.attributes[static_cast<std::size_t>(tri[0])];
-            const cv::Vec4f& a1 = mesh.attributes[static_cast<std::size_t>(tri[1])];
-            const cv::Vec4f& a2 = mesh.attributes[static_cast<std::size_t>(tri[2])];
+            const VertexAttributes& a0 = mesh.attributes[static_cast<std::size_t>(tri[0])];
+            const VertexAttributes& a1 = mesh.attributes[static_cast<std::size_t>(tri[1])];
+            const VertexAttributes& a2 = mesh.attributes[static_cast<std::size_t>(tri[2])];
             const double invArea = 1.0 / area;
             for (int y = y0; y <= y1; ++y) {
                 auto* depthRow = buffer.inverseDepth.ptr<float>(y);
                 auto* materialRow = buffer.material.ptr<int>(y);
-                auto* attributeRow = buffer.attributes.ptr<cv::Vec4f>(y);
+                auto* attributeRow = buffer.attributes.ptr<VertexAttributes>(y);
                 for (int x = x0; x <= x1; ++x) {
                     // Barycentric weights; a shared edge belongs to exactly one side (>= vs >).
                     const double w0 = ((p1[0] - x) * (p2[1] - y) - (p2[0] - x) * (p1[1] - y)) * invArea;
@@ -63,8 +63,8 @@ SampleBuffer rasterize(const std::vector<Mesh>& meshes, const PinholeView& view)
                     depthRow[x] = static_cast<float>(invZ);
                     materialRow[x] = mesh.material;
                     const double k0 = w0 * p0[2] / invZ, k1 = w1 * p1[2] / invZ, k2 = w2 * p2[2] / invZ;
-                    cv::Vec4f value;
-                    for (int c = 0; c < 4; ++c) {
+                    VertexAttributes value;
+                    for (int c = 0; c < VertexAttributes::channels; ++c) {
                         value[c] = static_cast<float>(k0 * a0[c] + k1 * a1[c] + k2 * a2[c]);
                     }
                     attributeRow[x] = value;

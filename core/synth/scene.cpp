@@ -7,7 +7,8 @@
 //   blade.cpp,        the objects as triangle meshes in their object frame (x, y in the object's
 //   flat_objects.cpp  plane, h its height towards the camera), posed in the left camera frame
 //   eye.cpp           each eye z-buffer rasterised (rasterizer.cpp) and shaded (shading.cpp) at
-//                     supersampling² samples per pixel, box-filtered down; the truth maps
+//                     supersampling² samples per pixel, box-filtered down; the truth maps;
+//                     with refractive ice optics, what the eye sees under the ice (refraction.cpp)
 //   sensor.cpp        per frame: the capture's gain, Gaussian sensor noise, 8 bits and JPEG, like
 //                     the camera's MJPEG stream
 //   scene_files.cpp   the scene directory
@@ -55,7 +56,7 @@ struct Geometry {
 // The bead's front is ice standing on nothing: where the bead is absent (towards the root) there is
 // no surface in front of the leading edge at all, not a sheet of zero thickness.
 Mesh withoutBareTriangles(Mesh mesh) {
-    const auto bare = [&mesh](int k) { return mesh.attributes[static_cast<std::size_t>(k)][3] <= 0.0f; };
+    const auto bare = [&mesh](int k) { return mesh.attributes[static_cast<std::size_t>(k)][kAttributeExtra] <= 0.0f; };
     std::erase_if(mesh.triangles, [&bare](const std::array<int, 3>& t) { return bare(t[0]) && bare(t[1]) && bare(t[2]); });
     return mesh;
 }
@@ -82,7 +83,7 @@ Geometry bladeGeometry(const SceneSpec& spec, const Pose& before, const Pose& af
     g.iceVolumeMm3 = iceVolumeMm3(surface) + iceVolumeMm3(front);
     g.maxIceThicknessMm = *std::max_element(surface.ice.begin(), surface.ice.end());
     g.before.push_back(bladeMesh(surface, 0.0, before, look));
-    g.after.push_back(bladeMesh(surface, 1.0, after, afterLook));
+    g.after.push_back(bladeMesh(surface, 1.0, after, afterLook, kMaterialBlade, spec.optics));
     if (front.nu > 0) {
         g.after.push_back(withoutBareTriangles(bladeMesh(front, 1.0, after, afterLook, kMaterialBeadFront)));
     }
@@ -187,6 +188,8 @@ constexpr std::pair<MotionKind, const char*> kMotionNames[] = {{MotionKind::None
                                                               {MotionKind::Large, "large"}};
 constexpr std::pair<Background, const char*> kBackgroundNames[] = {{Background::Sky, "sky"},
                                                                    {Background::Table, "table"}};
+constexpr std::pair<IceOptics, const char*> kOpticsNames[] = {{IceOptics::Painted, "painted"},
+                                                              {IceOptics::Refractive, "refractive"}};
 
 }  // namespace
 
@@ -194,10 +197,12 @@ SceneKind parseSceneKind(std::string_view name) { return parseName("scene", name
 IceKind parseIceKind(std::string_view name) { return parseName("ice kind", name, kIceNames); }
 MotionKind parseMotionKind(std::string_view name) { return parseName("motion", name, kMotionNames); }
 Background parseBackground(std::string_view name) { return parseName("background", name, kBackgroundNames); }
+IceOptics parseIceOptics(std::string_view name) { return parseName("ice optics", name, kOpticsNames); }
 std::string sceneKindName(SceneKind kind) { return nameOf(kind, kSceneNames); }
 std::string iceKindName(IceKind kind) { return nameOf(kind, kIceNames); }
 std::string motionKindName(MotionKind kind) { return nameOf(kind, kMotionNames); }
 std::string backgroundName(Background background) { return nameOf(background, kBackgroundNames); }
+std::string iceOpticsName(IceOptics optics) { return nameOf(optics, kOpticsNames); }
 
 SyntheticScene renderScene(const SceneSpec& spec) {
     checkSpec(spec);

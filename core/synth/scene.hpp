@@ -35,6 +35,13 @@ enum class MotionKind {
     Large,  // parked at another pitch, or bent by another wind: up to 15 mm and 1.5° (block 5 mm, 0.5°)
 };
 
+// How the blade's surface shows through its ice where the ice lets it (thin, translucent or clear).
+enum class IceOptics {
+    Painted,     // on the ice's outer surface, as a renderer that blends colours on one surface draws it
+    Refractive,  // where it is, under the ice, seen along rays bent by the ice (n = 1.31): a stereo
+                 // camera sees it raised by about a quarter of the ice's thickness, not by all of it
+};
+
 // What lies behind the object.
 enum class Background {
     Sky,    // overcast, almost featureless
@@ -46,10 +53,12 @@ SceneKind parseSceneKind(std::string_view name);
 IceKind parseIceKind(std::string_view name);
 MotionKind parseMotionKind(std::string_view name);
 Background parseBackground(std::string_view name);
+IceOptics parseIceOptics(std::string_view name);
 std::string sceneKindName(SceneKind kind);
 std::string iceKindName(IceKind kind);
 std::string motionKindName(MotionKind kind);
 std::string backgroundName(Background background);
+std::string iceOpticsName(IceOptics optics);
 
 inline constexpr int kMaxFrames = 256;
 inline constexpr double kMinLightChange = 0.2;
@@ -72,6 +81,7 @@ struct SceneSpec {
     IceKind ice = IceKind::LeadingEdge;  // the blade's; a block scene's ice is the block
     MotionKind motion = MotionKind::Small;
     Background background = Background::Sky;
+    IceOptics optics = IceOptics::Painted;
     double lightChange = 1.0;  // the current capture's illumination over the baseline's
     double lightTurnDeg = 0.0; // the current capture's light direction turned by this (the sun moved)
     double distanceMm = 850.0;  // camera to object

@@ -49,6 +49,7 @@ nlohmann::json truthJson(const SyntheticScene& scene, const SceneSpec& spec) {
             {"ice", spec.kind == SceneKind::Blade ? iceKindName(spec.ice) : "block"},
             {"motion", motionKindName(spec.motion)},
             {"background", backgroundName(spec.background)},
+            {"ice_optics", iceOpticsName(spec.optics)},
             {"light_change", spec.lightChange},
             {"light_turn_deg", spec.lightTurnDeg},
             {"distance_mm", spec.distanceMm},

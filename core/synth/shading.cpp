@@ -27,7 +27,7 @@ float composite(const Shading& s, float a, float b) {
 float rimeOpacity(float thicknessMm) { return 1.0f - std::exp(-thicknessMm / 0.3f); }
 
 // What the blade's ice does to the composite under it.
-float icedComposite(const Shading& s, float albedo, const cv::Vec4f& a) {
+float icedComposite(const Shading& s, float albedo, const VertexAttributes& a) {
     const float thickness = a[3];
     const auto whiteness = static_cast<float>(s.look.iceWhiteness);
     const auto translucencyMm = static_cast<float>(s.look.iceTranslucencyMm);
@@ -77,10 +77,11 @@ float tabletop(const Shading& s, float a, float b) {
 
 }  // namespace
 
-float shadeSample(const Shading& shading, int material, const cv::Vec4f& a, float skyX, float skyY) {
+float shadeSample(const Shading& shading, int material, const VertexAttributes& a, float skyX, float skyY) {
     switch (material) {
         case kMaterialBlade: {
-            const float albedo = composite(shading, a[0], a[1]);
+            // The composite where the eye sees it: under the ice, when the ice is clear enough to show it.
+            const float albedo = composite(shading, a[kAttributeSeenA], a[kAttributeSeenB]);
             if (a[3] <= 0.0f) return albedo * a[2];
             if (shading.ice == IceKind::Patches) {
                 // Rime scatters light inside itself, so its shading is flatter than Lambert's.

@@ -5,6 +5,7 @@
 #include <opencv2/core.hpp>
 
 #include "core/synth/look.hpp"
+#include "core/synth/rasterizer.hpp"
 #include "core/synth/scene.hpp"
 
 namespace icewatch::synth {
@@ -21,8 +22,9 @@ struct Shading {
 };
 
 // Light (0..1, before the camera's gain) of one sample from its material and its attributes
-// (surface coordinates a, b in mm, Lambert factor, ice thickness in mm); material < 0 is the sky,
+// (rasterizer.hpp: surface coordinates a, b in mm, Lambert factor, ice thickness in mm, and where
+// the surface under the ice is seen); material < 0 is the sky,
 // (skyX, skyY) its place in the image (0 .. 1 from the left, 0 bottom .. 1 top).
-float shadeSample(const Shading& shading, int material, const cv::Vec4f& a, float skyX, float skyY);
+float shadeSample(const Shading& shading, int material, const VertexAttributes& a, float skyX, float skyY);
 
 }  // namespace icewatch::synth

@@ -83,6 +83,7 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
         std::string ice = "leading-edge";
         std::string motion = "small";
         std::string background = "sky";
+        std::string optics = "painted";
         double lightChange = 1.0;
         double lightTurnDeg = 0.0;
         double distanceMm = 850.0;
@@ -115,6 +116,11 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
     cmd->add_option("--background", o->background,
                     "sky (overcast) or table (the object lies on a textured tabletop and moves with it)")
         ->check(CLI::IsMember({"sky", "table"}));
+    cmd->add_option("--ice-optics", o->optics,
+                    "how the blade shows through thin, translucent or clear ice: painted (blended on the ice's "
+                    "surface, as most renderers draw it) or refractive (where it is, under the ice, along rays the ice "
+                    "bends: a clear glaze then looks raised by a quarter of its thickness)")
+        ->check(CLI::IsMember({"painted", "refractive"}));
     cmd->add_option("--light-change", o->lightChange,
                     "the current capture's illumination times this, 0.2..3 (saturates at white)")
         ->check(CLI::Range(synth::kMinLightChange, synth::kMaxLightChange));
@@ -157,6 +163,7 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
             spec.ice = synth::parseIceKind(o->ice);
             spec.motion = synth::parseMotionKind(o->motion);
             spec.background = synth::parseBackground(o->background);
+            spec.optics = synth::parseIceOptics(o->optics);
             spec.lightChange = o->lightChange;
             spec.lightTurnDeg = o->lightTurnDeg;
             spec.distanceMm = o->distanceMm;
