@@ -37,6 +37,7 @@
 #include "core/volume/plane_clouds.hpp"
 #include "core/volume/registration.hpp"
 #include "core/volume/roi.hpp"
+#include "core/volume/seen_through.hpp"
 #include "core/volume/texture_tracks.hpp"
 #include "core/volume/thickness_map.hpp"
 #include "core/volume/uncertainty.hpp"
@@ -488,7 +489,8 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
 
     // --- thickness on the plane's grid, where the ice may be ---
     const ThicknessMap map = thicknessMap(clouds, baseline.roi, model->ringMask, possibleIce, plane,
-                                          impl_->projection.get_minor<3, 3>(0, 0), p, hidden);
+                                          impl_->projection.get_minor<3, 3>(0, 0), p, hidden,
+                                          seenThroughPixels(baseline.roi, tracks, motion.clean));
     if (map.insideNodes == 0) return refused(result, "the region covers no part of the measured surface");
     result.filledPercent = 100.0 * map.filledNodes / std::max(1, map.iceNodes);
     timer.lap("grid");
@@ -510,8 +512,15 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     result.maxThicknessMm = ice.maxThicknessMm;
     timer.lap("integrate");
 
+    // --- ice the texture was seen through: the matcher read it as low as refraction shows it ---
+    const SeenThroughIce seen = seenThroughIce(map);
+    result.seenThroughMm3 = seen.readMm3;
+    result.volumeMm3 += seenThroughShareMm3(seen);
+    result.meanThicknessMm = result.areaMm2 > 0 ? result.volumeMm3 / result.areaMm2 : 0.0;
+
     // --- uncertainty ---
-    result.budget = volumeUncertainty(map, plane, motion, push, {impl_->focalPx, impl_->baselineMm, depthMm}, p, result.volumeMm3);
+    result.budget = volumeUncertainty(map, plane, motion, push, {impl_->focalPx, impl_->baselineMm, depthMm}, p,
+                                      result.volumeMm3, seen);
     result.uncertaintyMm3 = expandedUncertainty(result.budget, p.coverageFactor);
     timer.lap("uncertainty");
 

@@ -79,6 +79,9 @@ struct VolumeResult {
     double supportSpanPercent = 0;  // extent of the unchanged surface the registration rests on
     double iceAreaMm2 = 0;       // where thickness was integrated: possible ice, grown by the matcher's reach
     double beyondOutlineMm3 = 0, beyondOutlineAreaMm2 = 0;  // of that, ice standing out of the outline
+    // Ice the object's texture was seen through (seen_through.hpp), as the matcher read it. The
+    // volume holds the middle of what such ice may be (that to n/(n − 1) times it), the budget the rest.
+    double seenThroughMm3 = 0;
     double iceMaskPercent = 0;   // of the region
     double matcherPushPx = 0;    // the matcher's change against the tracks' on clean texture (matcher_push.hpp)
     double matcherPushSigmaPx = 0;  // and its standard error
@@ -93,7 +96,7 @@ struct VolumeResult {
 };
 
 // The volume chain: split → rectify → match → reproject (measureSurface), then register →
-// filter → grid → integrate → uncertainty → gate (estimate). Not thread-safe (one matcher).
+// filter → grid → integrate → seen through → uncertainty → gate (estimate). Not thread-safe (one matcher).
 class VolumeChain {
 public:
     using Clock = std::function<std::chrono::steady_clock::time_point()>;

@@ -101,8 +101,9 @@ void addTaperedIce(ThicknessMap& map, const cv::Mat& rise, const cv::Mat& bare, 
 
 ThicknessMap thicknessMap(const PlaneClouds& clouds, const cv::Mat& roi, const cv::Mat& ring, const cv::Mat& possibleIce,
                           const PlaneFrame& plane, const cv::Matx33d& k, const Parameters& p,
-                          const HiddenBackground& hidden) {
+                          const HiddenBackground& hidden, const cv::Mat& seenThrough) {
     CV_Assert(roi.type() == CV_8UC1 && possibleIce.size() == roi.size() && ring.size() == roi.size());
+    CV_Assert(seenThrough.empty() || seenThrough.size() == roi.size());
     ThicknessMap map;
     map.grid = regionGrid(roi | ring, plane, k, p.gridCellMm);
     const GridSpec& grid = map.grid;
@@ -123,6 +124,7 @@ ThicknessMap thicknessMap(const PlaneClouds& clouds, const cv::Mat& roi, const c
     map.inside = cv::Mat(grid.nv, grid.nu, CV_8U, cv::Scalar(0));
     map.onIce = cv::Mat(grid.nv, grid.nu, CV_8U, cv::Scalar(0));
     map.thickness = cv::Mat(grid.nv, grid.nu, CV_64F, cv::Scalar(kNaN));
+    if (!seenThrough.empty()) map.seenThrough = cv::Mat(grid.nv, grid.nu, CV_8U, cv::Scalar(0));
     for (int j = 0; j < grid.nv; ++j)
         for (int i = 0; i < grid.nu; ++i) {
             const double h = map.baselineHeight.at<double>(j, i);
@@ -148,6 +150,7 @@ ThicknessMap thicknessMap(const PlaneClouds& clouds, const cv::Mat& roi, const c
                 continue;
             }
             map.onIce.at<std::uint8_t>(j, i) = 255;
+            if (!seenThrough.empty() && seenThrough.at<std::uint8_t>(y, x)) map.seenThrough.at<std::uint8_t>(j, i) = 255;
             ++map.iceNodes;
             map.thickness.at<double>(j, i) = currentHeight.at<double>(j, i) - baselineHeight.at<double>(j, i);
         }

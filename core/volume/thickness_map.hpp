@@ -22,6 +22,8 @@ struct ThicknessMap {
                              // ice (not counted), at the least that would have counted; NaN elsewhere
     cv::Mat fringe;          // CV_8U per node: ice inside the outline within outline_fringe_px of `tapered`
                              // or of `thinBeyondMm`
+    cv::Mat seenThrough;     // CV_8U per node: ice inside the outline the object's texture was seen through
+                             // (seen_through.hpp); empty when there was none
     int insideNodes = 0, iceNodes = 0, beyondNodes = 0, taperedNodes = 0;
     int filledNodes = 0;     // ice nodes without a measurement, filled from the nearest
 };
@@ -40,10 +42,11 @@ struct ThicknessMap {
 // outline_ice_min_mm and four times the noise of the rise where both captures saw a surface.
 // Where the baseline saw no surface and the current capture hides the background (`hidden`,
 // silhouette.hpp), the ice is tapered from the outline's (taperedIce) rather than measured from a
-// footing nobody saw.
+// footing nobody saw. `seenThrough` (per left baseline pixel, may be empty) marks the ice nodes
+// where the object's texture was seen through the ice.
 ThicknessMap thicknessMap(const PlaneClouds& clouds, const cv::Mat& roi, const cv::Mat& ring, const cv::Mat& possibleIce,
                           const PlaneFrame& plane, const cv::Matx33d& k, const Parameters& parameters,
-                          const HiddenBackground& hidden = {});
+                          const HiddenBackground& hidden = {}, const cv::Mat& seenThrough = {});
 
 // For people: a grid map (NaN where none) where it lies in the current left image, inside
 // `outline`. Each pixel's ray, moved into the baseline's frame, meets the baseline's plane at the

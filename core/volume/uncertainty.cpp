@@ -87,7 +87,7 @@ double outlineIceIntegral(const ThicknessMap& map) {
 
 UncertaintyBudget volumeUncertainty(const ThicknessMap& map, const PlaneFrame& plane, const MotionEstimate& motion,
                                     const MatcherPush& push, const ViewGeometry& view, const Parameters& p,
-                                    double volumeMm3) {
+                                    double volumeMm3, const SeenThroughIce& seenThrough) {
     const double iceAreaMm2 = map.iceNodes * map.grid.areaPerNodeMm2();
     const double depthPerPxMm = view.depthMm * view.depthMm / (view.focalPx * view.baselineMm);  // ΔZ of 1 px
     const double pixelMm = view.depthMm / view.focalPx;
@@ -143,6 +143,7 @@ UncertaintyBudget volumeUncertainty(const ThicknessMap& map, const PlaneFrame& p
     const double shapeMm3 = taperedMm3 * (0.5 / std::sqrt(12.0)) / (2.0 / 3.0);
     const double pullMm3 = (fringeMm3 + taperedMm3 + thinMm3) / std::sqrt(3.0);
     b.outlineMm3 = std::sqrt(footingMm3 * footingMm3 + unseenMm3 * unseenMm3 + shapeMm3 * shapeMm3 + pullMm3 * pullMm3);
+    b.seenThroughMm3 = seenThroughSigmaMm3(seenThrough);
     return b;
 }
 
@@ -150,7 +151,7 @@ double expandedUncertainty(const UncertaintyBudget& b, double coverageFactor) {
     return coverageFactor * std::sqrt(b.noiseMm3 * b.noiseMm3 + b.registrationMm3 * b.registrationMm3 +
                                       b.trackingMm3 * b.trackingMm3 + b.pushMm3 * b.pushMm3 +
                                       b.biasMm3 * b.biasMm3 + b.edgeMm3 * b.edgeMm3 + b.scaleMm3 * b.scaleMm3 +
-                                      b.outlineMm3 * b.outlineMm3);
+                                      b.outlineMm3 * b.outlineMm3 + b.seenThroughMm3 * b.seenThroughMm3);
 }
 
 }  // namespace icewatch::volume

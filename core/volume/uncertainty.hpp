@@ -3,6 +3,7 @@
 #include "core/volume/matcher_push.hpp"
 #include "core/volume/motion_evidence.hpp"
 #include "core/volume/parameters.hpp"
+#include "core/volume/seen_through.hpp"
 #include "core/volume/thickness_map.hpp"
 
 namespace icewatch::volume {
@@ -19,6 +20,7 @@ struct UncertaintyBudget {
                                   // stand out of it unseen (beyond_outline.hpp), and the matcher's
                                   // pull beside what stands out of it against featureless sky
     double scaleMm3 = 0;          // the depth scale and the matcher's response on ice, relative to the volume
+    double seenThroughMm3 = 0;    // ice the object's texture was seen through: refraction (seen_through.hpp)
 };
 
 // What the camera makes of a millimetre at the object's distance.
@@ -47,10 +49,12 @@ struct ViewGeometry {
 //   edge          a shift of σ_e of every edge of height H and length L moves σ_e·H·L, i.e.
 //                 σ_e·∫|∇t|; the noise floor of |∇t| (its median) is taken off so that noise does
 //                 not pass for edges;
-//   scale         scale_uncertainty_percent of the volume.
+//   scale         scale_uncertainty_percent of the volume;
+//   seen through  ice the object's texture was seen through may be up to n/(n − 1) times as thick as
+//                 stereo sees it (seenThroughSigmaMm3).
 UncertaintyBudget volumeUncertainty(const ThicknessMap& map, const PlaneFrame& plane, const MotionEstimate& motion,
                                     const MatcherPush& push, const ViewGeometry& view, const Parameters& parameters,
-                                    double volumeMm3);
+                                    double volumeMm3, const SeenThroughIce& seenThrough = {});
 
 // coverage · √(Σ parts²).
 double expandedUncertainty(const UncertaintyBudget& budget, double coverageFactor);

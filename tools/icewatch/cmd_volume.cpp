@@ -207,13 +207,15 @@ void addVolumeCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunctio
                                                  {"bias", r.budget.biasMm3},
                                                  {"edge", r.budget.edgeMm3},
                                                  {"scale", r.budget.scaleMm3},
-                                                 {"outline", r.budget.outlineMm3}};
+                                                 {"outline", r.budget.outlineMm3},
+                                                 {"seen_through", r.budget.seenThroughMm3}};
                 out["mean_thickness_mm"] = r.meanThicknessMm;
                 out["max_thickness_mm"] = r.maxThicknessMm;
                 out["area_mm2"] = r.areaMm2;
                 out["ice_area_mm2"] = r.iceAreaMm2;
                 out["beyond_outline_mm3"] = r.beyondOutlineMm3;
                 out["beyond_outline_area_mm2"] = r.beyondOutlineAreaMm2;
+                out["seen_through_mm3"] = r.seenThroughMm3;
                 out["ice_mask_percent"] = r.iceMaskPercent;
                 out["matcher_push_px"] = r.matcherPushPx;
                 out["matcher_push_sigma_px"] = r.matcherPushSigmaPx;

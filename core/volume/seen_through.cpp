@@ -1,0 +1,70 @@
+// Ice through which the object's own texture was seen (seen_through.hpp).
+#include "core/volume/seen_through.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <opencv2/imgproc.hpp>
+
+#include "core/volume/thickness_map.hpp"
+
+namespace icewatch::volume {
+
+cv::Mat seenThroughPixels(const cv::Mat& object, const std::vector<TextureTrack>& tracks,
+                          const std::vector<std::uint8_t>& clean) {
+    CV_Assert(object.type() == CV_8UC1 && tracks.size() == clean.size());
+    cv::Mat seen(object.size(), CV_8U, cv::Scalar(0));
+    // The object's samples as seeds of a nearest-sample partition (distanceTransform's labels
+    // number the zero pixels' connected components; every seed is one pixel).
+    cv::Mat seeds(object.size(), CV_8U, cv::Scalar(255));
+    std::vector<std::uint8_t> seenAt;
+    bool any = false;
+    for (std::size_t i = 0; i < tracks.size(); ++i) {
+        const TextureTrack& t = tracks[i];
+        if (!t.onObject || !object.at<std::uint8_t>(t.pixel)) continue;
+        seeds.at<std::uint8_t>(t.pixel) = 0;
+        any = any || (t.state != TextureTrack::State::Untracked && !clean[i]);
+    }
+    if (!any) return seen;
+    cv::Mat distance, labels;
+    cv::distanceTransform(seeds, distance, labels, cv::DIST_L2, cv::DIST_MASK_5, cv::DIST_LABEL_PIXEL);
+    std::vector<std::uint8_t> labelSeen(static_cast<std::size_t>(cv::countNonZero(seeds == 0)) + 1, 0);
+    for (std::size_t i = 0; i < tracks.size(); ++i) {
+        const TextureTrack& t = tracks[i];
+        if (!t.onObject || !object.at<std::uint8_t>(t.pixel)) continue;
+        const auto label = static_cast<std::size_t>(labels.at<int>(t.pixel));
+        if (label < labelSeen.size()) labelSeen[label] = t.state != TextureTrack::State::Untracked && !clean[i] ? 255 : 0;
+    }
+    for (int y = 0; y < object.rows; ++y) {
+        const auto* inside = object.ptr<std::uint8_t>(y);
+        const int* label = labels.ptr<int>(y);
+        auto* out = seen.ptr<std::uint8_t>(y);
+        for (int x = 0; x < object.cols; ++x) {
+            const auto l = static_cast<std::size_t>(label[x]);
+            if (inside[x] && l < labelSeen.size()) out[x] = labelSeen[l];
+        }
+    }
+    return seen;
+}
+
+SeenThroughIce seenThroughIce(const ThicknessMap& map) {
+    SeenThroughIce seen;
+    if (map.seenThrough.empty()) return seen;
+    double sum = 0;
+    for (int j = 0; j < map.grid.nv; ++j)
+        for (int i = 0; i < map.grid.nu; ++i) {
+            if (!map.seenThrough.at<std::uint8_t>(j, i)) continue;
+            const double t = map.thickness.at<double>(j, i);
+            if (std::isnan(t)) continue;
+            sum += t;  // signed: the noise of clean nodes cancels
+            ++seen.nodes;
+        }
+    seen.readMm3 = std::max(0.0, sum * map.grid.areaPerNodeMm2());
+    return seen;
+}
+
+double seenThroughShareMm3(const SeenThroughIce& seen) { return 0.5 * (kSeenThroughFactor - 1.0) * seen.readMm3; }
+
+double seenThroughSigmaMm3(const SeenThroughIce& seen) { return seenThroughShareMm3(seen) / std::sqrt(3.0); }
+
+}  // namespace icewatch::volume

@@ -1,0 +1,50 @@
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "core/volume/texture_tracks.hpp"
+
+namespace icewatch::volume {
+
+struct ThicknessMap;
+
+// Ice's refractive index (visible light, near 0 °C).
+inline constexpr double kIceRefractiveIndex = 1.31;
+
+// Ice through which the object's own texture was seen.
+//
+// The object's texture is never on the outer surface of ice. Where the baseline's texture was
+// found again in the current capture but not as clean surface (its look changed: a translucent
+// layer whitens it; or it rose against the object's motion), the cameras saw the object's surface
+// through ice. Stereo sees that surface raised by refraction: by (1 − 1/n) of the layer's thickness
+// looking along its normal (a quarter for ice), by more at oblique incidence, and by up to all of
+// it where the layer's own surface shows too (a milky layer, frost on it, or a renderer that paints
+// the texture on the ice). So such ice is between what the matcher read there and n/(n − 1) times
+// it: a clear glaze on a table, rendered with refraction, read 34 % of its volume.
+
+// Per baseline left pixel (CV_8U, 255): where the nearest texture sample on the object (`object`,
+// the region) was found again under ice, not clean (`clean`: one flag per track,
+// motion_evidence.hpp). Nearest, so that every pixel of the object takes the word of one sample:
+// opaque ice hides the texture of its samples, clean surface has its own.
+cv::Mat seenThroughPixels(const cv::Mat& object, const std::vector<TextureTrack>& tracks,
+                          const std::vector<std::uint8_t>& clean);
+
+// How much thicker than what stereo sees ice may be when the texture was seen through it.
+inline constexpr double kSeenThroughFactor = kIceRefractiveIndex / (kIceRefractiveIndex - 1.0);
+
+// The ice the matcher read where the texture was seen through it (ThicknessMap::seenThrough).
+struct SeenThroughIce {
+    double readMm3 = 0;  // integrated over those nodes, as the matcher read it (≥ 0)
+    int nodes = 0;
+};
+SeenThroughIce seenThroughIce(const ThicknessMap& map);
+
+// What the estimate adds, and its 1 σ: such ice is between what was read and kSeenThroughFactor
+// times it; the estimate takes the middle, the budget the rest of the interval (uniform, 1/√3).
+double seenThroughShareMm3(const SeenThroughIce& seen);
+double seenThroughSigmaMm3(const SeenThroughIce& seen);
+
+}  // namespace icewatch::volume
