@@ -14,32 +14,33 @@ cv::Mat seenThroughPixels(const cv::Mat& object, const std::vector<TextureTrack>
                           const std::vector<std::uint8_t>& clean) {
     CV_Assert(object.type() == CV_8UC1 && tracks.size() == clean.size());
     cv::Mat seen(object.size(), CV_8U, cv::Scalar(0));
-    // The object's samples as seeds of a nearest-sample partition (distanceTransform's labels
-    // number the zero pixels' connected components; every seed is one pixel).
-    cv::Mat seeds(object.size(), CV_8U, cv::Scalar(255));
-    std::vector<std::uint8_t> seenAt;
+    // The object's samples as seeds of a nearest-sample partition over the object's box
+    // (distanceTransform labels every zero pixel on its own; each seed is one pixel).
+    const cv::Rect box = cv::boundingRect(object);
+    std::vector<std::size_t> onObject;
     bool any = false;
     for (std::size_t i = 0; i < tracks.size(); ++i) {
         const TextureTrack& t = tracks[i];
-        if (!t.onObject || !object.at<std::uint8_t>(t.pixel)) continue;
-        seeds.at<std::uint8_t>(t.pixel) = 0;
+        if (!t.onObject || !box.contains(t.pixel) || !object.at<std::uint8_t>(t.pixel)) continue;
+        onObject.push_back(i);
         any = any || (t.state != TextureTrack::State::Untracked && !clean[i]);
     }
     if (!any) return seen;
+    cv::Mat seeds(box.size(), CV_8U, cv::Scalar(255));
+    for (std::size_t i : onObject) seeds.at<std::uint8_t>(tracks[i].pixel - box.tl()) = 0;
     cv::Mat distance, labels;
     cv::distanceTransform(seeds, distance, labels, cv::DIST_L2, cv::DIST_MASK_5, cv::DIST_LABEL_PIXEL);
-    std::vector<std::uint8_t> labelSeen(static_cast<std::size_t>(cv::countNonZero(seeds == 0)) + 1, 0);
-    for (std::size_t i = 0; i < tracks.size(); ++i) {
-        const TextureTrack& t = tracks[i];
-        if (!t.onObject || !object.at<std::uint8_t>(t.pixel)) continue;
-        const auto label = static_cast<std::size_t>(labels.at<int>(t.pixel));
-        if (label < labelSeen.size()) labelSeen[label] = t.state != TextureTrack::State::Untracked && !clean[i] ? 255 : 0;
+    std::vector<std::uint8_t> labelSeen(onObject.size() + 1, 0);
+    for (std::size_t i : onObject) {
+        const auto label = static_cast<std::size_t>(labels.at<int>(tracks[i].pixel - box.tl()));
+        const bool through = tracks[i].state != TextureTrack::State::Untracked && !clean[i];
+        if (label < labelSeen.size()) labelSeen[label] = through ? 255 : 0;
     }
-    for (int y = 0; y < object.rows; ++y) {
-        const auto* inside = object.ptr<std::uint8_t>(y);
+    for (int y = 0; y < box.height; ++y) {
+        const auto* inside = object.ptr<std::uint8_t>(box.y + y) + box.x;
         const int* label = labels.ptr<int>(y);
-        auto* out = seen.ptr<std::uint8_t>(y);
-        for (int x = 0; x < object.cols; ++x) {
+        auto* out = seen.ptr<std::uint8_t>(box.y + y) + box.x;
+        for (int x = 0; x < box.width; ++x) {
             const auto l = static_cast<std::size_t>(label[x]);
             if (inside[x] && l < labelSeen.size()) out[x] = labelSeen[l];
         }
