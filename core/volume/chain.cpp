@@ -490,7 +490,7 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     // --- thickness on the plane's grid, where the ice may be ---
     const ThicknessMap map = thicknessMap(clouds, baseline.roi, model->ringMask, possibleIce, plane,
                                           impl_->projection.get_minor<3, 3>(0, 0), p, hidden,
-                                          seenThroughPixels(baseline.roi, tracks, motion.clean));
+                                          seenThroughPixels(baseline.roi, tracks));
     if (map.insideNodes == 0) return refused(result, "the region covers no part of the measured surface");
     result.filledPercent = 100.0 * map.filledNodes / std::max(1, map.iceNodes);
     timer.lap("grid");

@@ -10,9 +10,8 @@
 
 namespace icewatch::volume {
 
-cv::Mat seenThroughPixels(const cv::Mat& object, const std::vector<TextureTrack>& tracks,
-                          const std::vector<std::uint8_t>& clean) {
-    CV_Assert(object.type() == CV_8UC1 && tracks.size() == clean.size());
+cv::Mat seenThroughPixels(const cv::Mat& object, const std::vector<TextureTrack>& tracks) {
+    CV_Assert(object.type() == CV_8UC1);
     cv::Mat seen(object.size(), CV_8U, cv::Scalar(0));
     // The object's samples as seeds of a nearest-sample partition over the object's box
     // (distanceTransform labels every zero pixel on its own; each seed is one pixel).
@@ -23,7 +22,7 @@ cv::Mat seenThroughPixels(const cv::Mat& object, const std::vector<TextureTrack>
         const TextureTrack& t = tracks[i];
         if (!t.onObject || !box.contains(t.pixel) || !object.at<std::uint8_t>(t.pixel)) continue;
         onObject.push_back(i);
-        any = any || (t.state != TextureTrack::State::Untracked && !clean[i]);
+        any = any || t.state == TextureTrack::State::Changed;
     }
     if (!any) return seen;
     cv::Mat seeds(box.size(), CV_8U, cv::Scalar(255));
@@ -33,7 +32,7 @@ cv::Mat seenThroughPixels(const cv::Mat& object, const std::vector<TextureTrack>
     std::vector<std::uint8_t> labelSeen(onObject.size() + 1, 0);
     for (std::size_t i : onObject) {
         const auto label = static_cast<std::size_t>(labels.at<int>(tracks[i].pixel - box.tl()));
-        const bool through = tracks[i].state != TextureTrack::State::Untracked && !clean[i];
+        const bool through = tracks[i].state == TextureTrack::State::Changed;
         if (label < labelSeen.size()) labelSeen[label] = through ? 255 : 0;
     }
     for (int y = 0; y < box.height; ++y) {

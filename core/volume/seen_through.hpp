@@ -17,20 +17,22 @@ inline constexpr double kIceRefractiveIndex = 1.31;
 // Ice through which the object's own texture was seen.
 //
 // The object's texture is never on the outer surface of ice. Where the baseline's texture was
-// found again in the current capture but not as clean surface (its look changed: a translucent
-// layer whitens it; or it rose against the object's motion), the cameras saw the object's surface
-// through ice. Stereo sees that surface raised by refraction: by (1 − 1/n) of the layer's thickness
-// looking along its normal (a quarter for ice), by more at oblique incidence, and by up to all of
-// it where the layer's own surface shows too (a milky layer, frost on it, or a renderer that paints
-// the texture on the ice). So such ice is between what the matcher read there and n/(n − 1) times
-// it: a clear glaze on a table, rendered with refraction, read 34 % of its volume.
+// found again in the current capture with its look changed otherwise than light changes it (a
+// translucent layer whitens and veils it, a clear one brightens it), the cameras saw the object's
+// surface through ice. Stereo sees that surface raised by refraction: by (1 − 1/n) of the layer's
+// thickness looking along its normal (a quarter for ice), by more at oblique incidence, and by up
+// to all of it where the layer's own surface shows too (a milky layer, frost on it, or a renderer
+// that paints the texture on the ice). So such ice is between what the matcher read there and
+// n/(n − 1) times it: a clear glaze on a table, rendered with refraction, read 34 % of its volume.
+// Texture found again with its look unchanged but risen against the object's motion is not taken
+// for it: a patch that an edge of opaque ice entered, or a motion the rigid model does not quite
+// fit, does that too (beside a rendered ice block, 322 plate samples rose 0.6 mm).
 
 // Per baseline left pixel (CV_8U, 255): where the nearest texture sample on the object (`object`,
-// the region) was found again under ice, not clean (`clean`: one flag per track,
-// motion_evidence.hpp). Nearest, so that every pixel of the object takes the word of one sample:
-// opaque ice hides the texture of its samples, clean surface has its own.
-cv::Mat seenThroughPixels(const cv::Mat& object, const std::vector<TextureTrack>& tracks,
-                          const std::vector<std::uint8_t>& clean);
+// the region) was found again with a changed look (TextureTrack::State::Changed). Nearest, so
+// that every pixel of the object takes the word of one sample: opaque ice hides the texture of its
+// samples, clean surface has its own.
+cv::Mat seenThroughPixels(const cv::Mat& object, const std::vector<TextureTrack>& tracks);
 
 // How much thicker than what stereo sees ice may be when the texture was seen through it.
 inline constexpr double kSeenThroughFactor = kIceRefractiveIndex / (kIceRefractiveIndex - 1.0);

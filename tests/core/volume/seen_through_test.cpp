@@ -26,17 +26,19 @@ TEST(SeenThrough, EveryPixelTakesTheWordOfItsNearestSample) {
     const std::vector<TextureTrack> tracks = {sample(20, 45, TextureTrack::State::Unchanged),
                                               sample(60, 45, TextureTrack::State::Changed),
                                               sample(40, 15, TextureTrack::State::Untracked)};
-    const std::vector<std::uint8_t> clean = {1, 0, 0};
-    const cv::Mat seen = seenThroughPixels(object, tracks, clean);
+    const cv::Mat seen = seenThroughPixels(object, tracks);
     EXPECT_EQ(seen.at<std::uint8_t>(45, 65), 255) << "next to the texture seen through the ice";
     EXPECT_EQ(seen.at<std::uint8_t>(60, 50), 255);
     EXPECT_EQ(seen.at<std::uint8_t>(45, 15), 0) << "next to clean surface";
     EXPECT_EQ(seen.at<std::uint8_t>(12, 40), 0) << "next to texture the ice hid";
     EXPECT_EQ(seen.at<std::uint8_t>(45, 75), 0) << "outside the object";
-    // Texture found again unchanged but not moving with the object (it rose) was seen through too.
-    EXPECT_EQ(seenThroughPixels(object, {sample(60, 45, TextureTrack::State::Unchanged)}, {0}).at<std::uint8_t>(45, 65), 255);
-    // Nothing seen through: nothing marked.
-    EXPECT_EQ(cv::countNonZero(seenThroughPixels(object, tracks, {1, 1, 0})), 0);
+    // Texture found again with its look unchanged is not taken for seen through, whether it moved
+    // with the object or rose (an edge of opaque ice entered its patch, a motion the model does
+    // not quite fit): nothing marked.
+    const std::vector<TextureTrack> unchanged = {sample(20, 45, TextureTrack::State::Unchanged),
+                                                 sample(60, 45, TextureTrack::State::Unchanged),
+                                                 sample(40, 15, TextureTrack::State::Untracked)};
+    EXPECT_EQ(cv::countNonZero(seenThroughPixels(object, unchanged)), 0);
 }
 
 // A grid of 2 mm cells, 1 mm read everywhere, a third of it seen through.
