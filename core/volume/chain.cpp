@@ -501,22 +501,18 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
         return refused(result, reason.str());
     }
 
-    // --- integrate ---
+    // --- integrate; ice the texture was seen through, the matcher read as low as refraction shows it ---
     const IceSummary ice = summarise(map, p.integration);
-    result.volumeMm3 = ice.volumeMm3;
+    const SeenThroughIce seen = seenThroughIce(map);
+    result.volumeMm3 = ice.volumeMm3 + seenThroughShareMm3(seen);
+    result.seenThroughMm3 = seen.readMm3;
     result.areaMm2 = ice.areaMm2;
     result.iceAreaMm2 = ice.iceAreaMm2;
     result.beyondOutlineMm3 = ice.beyondOutlineMm3;
     result.beyondOutlineAreaMm2 = ice.beyondOutlineAreaMm2;
-    result.meanThicknessMm = ice.meanThicknessMm;
+    result.meanThicknessMm = ice.areaMm2 > 0 ? result.volumeMm3 / ice.areaMm2 : 0.0;
     result.maxThicknessMm = ice.maxThicknessMm;
     timer.lap("integrate");
-
-    // --- ice the texture was seen through: the matcher read it as low as refraction shows it ---
-    const SeenThroughIce seen = seenThroughIce(map);
-    result.seenThroughMm3 = seen.readMm3;
-    result.volumeMm3 += seenThroughShareMm3(seen);
-    result.meanThicknessMm = result.areaMm2 > 0 ? result.volumeMm3 / result.areaMm2 : 0.0;
 
     // --- uncertainty ---
     result.budget = volumeUncertainty(map, plane, motion, push, {impl_->focalPx, impl_->baselineMm, depthMm}, p,

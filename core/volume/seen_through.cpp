@@ -3,9 +3,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <opencv2/imgproc.hpp>
 
+#include "core/volume/height_grid.hpp"
 #include "core/volume/thickness_map.hpp"
 
 namespace icewatch::volume {
@@ -13,37 +15,22 @@ namespace icewatch::volume {
 cv::Mat seenThroughPixels(const cv::Mat& object, const std::vector<TextureTrack>& tracks) {
     CV_Assert(object.type() == CV_8UC1);
     cv::Mat seen(object.size(), CV_8U, cv::Scalar(0));
-    // The object's samples as seeds of a nearest-sample partition over the object's box
-    // (distanceTransform labels every zero pixel on its own; each seed is one pixel).
+    // Over the object's box: each sample on the object says 1 (seen through) or 0, and every
+    // pixel of the object takes its nearest sample's word.
     const cv::Rect box = cv::boundingRect(object);
-    std::vector<std::size_t> onObject;
+    cv::Mat word(box.size(), CV_64F, cv::Scalar(std::numeric_limits<double>::quiet_NaN()));
     bool any = false;
-    for (std::size_t i = 0; i < tracks.size(); ++i) {
-        const TextureTrack& t = tracks[i];
+    for (const TextureTrack& t : tracks) {
         if (!t.onObject || !box.contains(t.pixel) || !object.at<std::uint8_t>(t.pixel)) continue;
-        onObject.push_back(i);
-        any = any || t.state == TextureTrack::State::Changed;
+        const bool through = t.state == TextureTrack::State::Changed;
+        word.at<double>(t.pixel - box.tl()) = through ? 1.0 : 0.0;
+        any = any || through;
     }
     if (!any) return seen;
-    cv::Mat seeds(box.size(), CV_8U, cv::Scalar(255));
-    for (std::size_t i : onObject) seeds.at<std::uint8_t>(tracks[i].pixel - box.tl()) = 0;
-    cv::Mat distance, labels;
-    cv::distanceTransform(seeds, distance, labels, cv::DIST_L2, cv::DIST_MASK_5, cv::DIST_LABEL_PIXEL);
-    std::vector<std::uint8_t> labelSeen(onObject.size() + 1, 0);
-    for (std::size_t i : onObject) {
-        const auto label = static_cast<std::size_t>(labels.at<int>(tracks[i].pixel - box.tl()));
-        const bool through = tracks[i].state == TextureTrack::State::Changed;
-        if (label < labelSeen.size()) labelSeen[label] = through ? 255 : 0;
-    }
-    for (int y = 0; y < box.height; ++y) {
-        const auto* inside = object.ptr<std::uint8_t>(box.y + y) + box.x;
-        const int* label = labels.ptr<int>(y);
-        auto* out = seen.ptr<std::uint8_t>(box.y + y) + box.x;
-        for (int x = 0; x < box.width; ++x) {
-            const auto l = static_cast<std::size_t>(label[x]);
-            if (inside[x] && l < labelSeen.size()) out[x] = labelSeen[l];
-        }
-    }
+    const cv::Mat inside = object(box);
+    fillFromNearest(word, inside);
+    cv::Mat part = seen(box);
+    part.setTo(255, (word > 0.5) & inside);
     return seen;
 }
 
