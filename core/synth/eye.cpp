@@ -3,6 +3,8 @@
 // over each pixel. The left eye also yields the truth maps of the geometry it sees.
 #include "core/synth/eye.hpp"
 
+#include <algorithm>
+
 #include <opencv2/imgproc.hpp>
 
 #include "core/stereo/matcher.hpp"
@@ -50,11 +52,15 @@ cv::Mat renderEye(const std::vector<Mesh>& meshes, const Shading& shading, const
     view.cyPx = (calibration.M1.at<double>(1, 2) + 0.5) * supersampling - 0.5;
     view.centreXMm = centreXMm;
     view.size = {eye.width * supersampling, eye.height * supersampling};
-    // Each eye sees what lies under clear ice along its own rays.
+    // Each eye sees what lies under clear ice along its own rays (copies only when there is any).
+    const bool anyLayer =
+        std::any_of(meshes.begin(), meshes.end(), [](const Mesh& m) { return m.clearLayer.has_value(); });
     std::vector<Mesh> seen;
-    seen.reserve(meshes.size());
-    for (const Mesh& mesh : meshes) seen.push_back(seenThroughClearLayer(mesh, centreXMm));
-    const SampleBuffer samples = rasterize(seen, view);
+    if (anyLayer) {
+        seen.reserve(meshes.size());
+        for (const Mesh& mesh : meshes) seen.push_back(seenThroughClearLayer(mesh, centreXMm));
+    }
+    const SampleBuffer samples = rasterize(anyLayer ? seen : meshes, view);
     cv::Mat fine(view.size, CV_32F);
     // Rows in fixed stripes: each sample is a pure function of its inputs, so the result does not
     // depend on the thread count.

@@ -77,8 +77,8 @@ void addQuad(Mesh& mesh, const Pose& pose, const cv::Vec3d& origin, const cv::Ve
             const double ta = std::abs(edgeU[0]) + std::abs(edgeV[0]) > 0 ? local[0] : local[1];
             const double tb = std::abs(edgeU[1]) + std::abs(edgeV[1]) > 0 && ta != local[1] ? local[1] : local[2];
             const float height = mesh.material == kMaterialIceBlock ? static_cast<float>(local[2]) : 0.0f;
-            mesh.attributes.push_back(
-                {static_cast<float>(ta), static_cast<float>(tb), shade, height, static_cast<float>(ta), static_cast<float>(tb)});
+            const auto u = static_cast<float>(ta), v = static_cast<float>(tb);
+            mesh.attributes.push_back({u, v, shade, height, u, v});
         }
     }
     for (const auto& t : gridTriangles(divisions, divisions)) {
