@@ -1,11 +1,9 @@
 #pragma once
 
+#include "core/common/ice.hpp"
 #include "core/synth/rasterizer.hpp"
 
 namespace icewatch::synth {
-
-// Ice's refractive index (visible light, near 0 °C).
-inline constexpr double kIceRefractiveIndex = 1.31;
 
 // The mesh as the eye at (eyeCentreXMm, 0, 0) sees it: where the mesh carries a clear layer, each
 // vertex's seen coordinates (kAttributeSeenA/B) become those of the point under the layer that the

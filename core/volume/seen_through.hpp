@@ -5,14 +5,12 @@
 
 #include <opencv2/core.hpp>
 
+#include "core/common/ice.hpp"
 #include "core/volume/texture_tracks.hpp"
 
 namespace icewatch::volume {
 
 struct ThicknessMap;
-
-// Ice's refractive index (visible light, near 0 °C).
-inline constexpr double kIceRefractiveIndex = 1.31;
 
 // Ice through which the object's own texture was seen.
 //
