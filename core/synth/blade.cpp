@@ -197,9 +197,11 @@ Mesh bladeMesh(const GridSurface& s, double iceScale, const Pose& pose, const Lo
     mesh.attributes.resize(s.local.size());
     for (std::size_t k = 0; k < s.local.size(); ++k) {
         const auto a = static_cast<float>(s.local[k][0]), b = static_cast<float>(s.local[k][1]);
-        mesh.attributes[k] = {a, b, lambert(look, normals[k]), static_cast<float>(iceScale * s.ice[k]), a, b};
+        mesh.attributes[k] = {a, b, lambert(look, normals[k]), static_cast<float>(iceScale * s.ice[k]), a, b, 0.0f};
     }
     mesh.triangles = gridTriangles(s.nu, s.nv);
+    mesh.normals = normals;
+    mesh.towardsLight = look.towardsLight;
     if (optics == IceOptics::Refractive && iceScale > 0 && material == kMaterialBlade) {
         // The blade under its ice, for each eye to see through it (refraction.hpp). Its surface
         // coordinates are the object frame's x and y: (x, y) = Rᵀ·(p − t), the first two rows.

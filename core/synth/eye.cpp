@@ -8,6 +8,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/stereo/matcher.hpp"
+#include "core/synth/highlight.hpp"
 #include "core/synth/refraction.hpp"
 
 namespace icewatch::synth {
@@ -52,15 +53,20 @@ cv::Mat renderEye(const std::vector<Mesh>& meshes, const Shading& shading, const
     view.cyPx = (calibration.M1.at<double>(1, 2) + 0.5) * supersampling - 0.5;
     view.centreXMm = centreXMm;
     view.size = {eye.width * supersampling, eye.height * supersampling};
-    // Each eye sees what lies under clear ice along its own rays (copies only when there is any).
+    // Each eye sees what lies under clear ice along its own rays, and highlights where its own
+    // view mirrors the light (copies only when there is any of either).
     const bool anyLayer =
         std::any_of(meshes.begin(), meshes.end(), [](const Mesh& m) { return m.clearLayer.has_value(); });
+    const bool glossy = shading.look.gloss > 0;
     std::vector<Mesh> seen;
-    if (anyLayer) {
+    if (anyLayer || glossy) {
         seen.reserve(meshes.size());
-        for (const Mesh& mesh : meshes) seen.push_back(seenThroughClearLayer(mesh, centreXMm));
+        for (const Mesh& mesh : meshes) {
+            seen.push_back(seenThroughClearLayer(mesh, centreXMm));
+            if (glossy) addHighlights(seen.back(), centreXMm, shading.ice, shading.look.gloss);
+        }
     }
-    const SampleBuffer samples = rasterize(anyLayer ? seen : meshes, view);
+    const SampleBuffer samples = rasterize(anyLayer || glossy ? seen : meshes, view);
     cv::Mat fine(view.size, CV_32F);
     // Rows in fixed stripes: each sample is a pure function of its inputs, so the result does not
     // depend on the thread count.

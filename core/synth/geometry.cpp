@@ -69,6 +69,7 @@ void addQuad(Mesh& mesh, const Pose& pose, const cv::Vec3d& origin, const cv::Ve
     n = cv::normalize(n);
     if (n[2] > 0) n = -n;
     const float shade = lambert(look, n);
+    mesh.towardsLight = look.towardsLight;
     for (int j = 0; j <= divisions; ++j) {
         for (int i = 0; i <= divisions; ++i) {
             const double fu = static_cast<double>(i) / divisions, fv = static_cast<double>(j) / divisions;
@@ -78,7 +79,8 @@ void addQuad(Mesh& mesh, const Pose& pose, const cv::Vec3d& origin, const cv::Ve
             const double tb = std::abs(edgeU[1]) + std::abs(edgeV[1]) > 0 && ta != local[1] ? local[1] : local[2];
             const float height = mesh.material == kMaterialIceBlock ? static_cast<float>(local[2]) : 0.0f;
             const auto u = static_cast<float>(ta), v = static_cast<float>(tb);
-            mesh.attributes.push_back({u, v, shade, height, u, v});
+            mesh.attributes.push_back({u, v, shade, height, u, v, 0.0f});
+            mesh.normals.push_back(n);
         }
     }
     for (const auto& t : gridTriangles(divisions, divisions)) {

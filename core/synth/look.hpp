@@ -22,6 +22,9 @@ struct Look {
     // gain as a change of light would brighten it (the layer reflects more): only its background
     // tells it from light. Otherwise the glaze veils the texture (whiter, of lower contrast).
     bool glazeKeepsTexture = false;
+    // The peak of the light that wet ice mirrors towards the eye (highlight.hpp); the blade's coat
+    // mirrors less, rime nothing. 0: every surface matte.
+    double gloss = 0.0;
 };
 
 // With fixedLight the light keeps its default (a lab rig under fixed lamps); the rest still varies.

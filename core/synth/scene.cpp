@@ -8,7 +8,8 @@
 //   flat_objects.cpp  plane, h its height towards the camera), posed in the left camera frame
 //   eye.cpp           each eye z-buffer rasterised (rasterizer.cpp) and shaded (shading.cpp) at
 //                     supersampling² samples per pixel, box-filtered down; the truth maps;
-//                     with refractive ice optics, what the eye sees under the ice (refraction.cpp)
+//                     with refractive ice optics, what the eye sees under the ice (refraction.cpp);
+//                     with gloss, the highlights each eye sees (highlight.cpp)
 //   sensor.cpp        per frame: the capture's gain, Gaussian sensor noise, 8 bits and JPEG, like
 //                     the camera's MJPEG stream
 //   scene_files.cpp   the scene directory
@@ -154,6 +155,9 @@ void checkSpec(const SceneSpec& spec) {
     if (!(spec.cloudDrift >= 0 && spec.cloudDrift <= kMaxCloudDrift)) {
         throw InvalidInput("synthetic scene: the clouds' drift must be between 0 and 0.5 of the image");
     }
+    if (!(spec.gloss >= 0 && spec.gloss <= kMaxGloss)) {
+        throw InvalidInput("synthetic scene: the gloss must be between 0 and 1");
+    }
     if (spec.kind == SceneKind::Block && spec.ice != IceKind::LeadingEdge) {
         throw InvalidInput("synthetic scene: the ice kind is the blade's; a block scene's ice is the block");
     }
@@ -215,6 +219,7 @@ SyntheticScene renderScene(const SceneSpec& spec) {
     // The block is the seed paper's lab rig under fixed lamps; the blade is outdoors, lit as the
     // day and the weather have it.
     scene.look = drawLook(spec.seed, spec.kind == SceneKind::Block);
+    scene.look.gloss = spec.gloss;
 
     // Nearly fronto-parallel, tilted by a few degrees so the surface spans a range of disparities.
     const bool blade = spec.kind == SceneKind::Blade;

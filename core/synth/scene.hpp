@@ -68,6 +68,7 @@ inline constexpr double kMinDistanceMm = 600.0;
 inline constexpr double kMaxDistanceMm = 1500.0;
 inline constexpr double kMaxLightTurnDeg = 60.0;
 inline constexpr double kMaxCloudDrift = 0.5;
+inline constexpr double kMaxGloss = 1.0;
 
 struct SceneSpec {
     SceneKind kind = SceneKind::Blade;
@@ -89,6 +90,9 @@ struct SceneSpec {
     // Clouds drift behind the object by this share of the image's width between the captures
     // (0: an even overcast without clouds), where the sky shows.
     double cloudDrift = 0.0;
+    // Wet ice mirrors this much of the light towards the eye at its highlight's peak (0: matte);
+    // the blade's coat a third of it (highlight.hpp).
+    double gloss = 0.0;
     double baselineMm = 60.0;
     double horizontalFovDeg = 80.0;
 };

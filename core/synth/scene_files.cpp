@@ -67,6 +67,7 @@ nlohmann::json truthJson(const SyntheticScene& scene, const SceneSpec& spec) {
               {"ice_whiteness", look.iceWhiteness},
               {"ice_translucency_mm", look.iceTranslucencyMm},
               {"glaze_keeps_texture", look.glazeKeepsTexture},
+              {"gloss", look.gloss},
               {"table_grain_deg", look.tableGrainDeg}}}};
 }
 

@@ -75,9 +75,8 @@ float tabletop(const Shading& s, float a, float b) {
     return static_cast<float>(0.42 + 0.045 * rings + 0.05 * fibres + 0.05 * blotches + 0.03 * pores);
 }
 
-}  // namespace
-
-float shadeSample(const Shading& shading, int material, const VertexAttributes& a, float skyX, float skyY) {
+// What a surface scatters: its texture under the light it was shaded with.
+float diffuseLight(const Shading& shading, int material, const VertexAttributes& a) {
     switch (material) {
         case kMaterialBlade: {
             // The composite where the eye sees it: under the ice, when the ice is clear enough to show it.
@@ -100,15 +99,26 @@ float shadeSample(const Shading& shading, int material, const VertexAttributes& 
             return (0.45f + 0.12f * fractalNoise(a[0], a[1], 8.0, 5, shading.seed + 300)) * a[2];
         case kMaterialTable:
             return tabletop(shading, a[0], a[1]) * a[2];
-        default: {
-            // Overcast sky: bright, almost featureless; clouds, as far as the sky, lie at the same
-            // place in both eyes and drift between the captures.
-            const float overcast = 0.80f + 0.05f * skyY;
-            if (shading.cloudContrast <= 0) return overcast;
-            return overcast + static_cast<float>(shading.cloudContrast) *
-                                  fractalNoise(skyX + shading.cloudShift, skyY, 0.2, 3, shading.seed + 400);
-        }
+        default:
+            return 0.0f;
     }
+}
+
+float sky(const Shading& shading, float skyX, float skyY) {
+    // Overcast sky: bright, almost featureless; clouds, as far as the sky, lie at the same
+    // place in both eyes and drift between the captures.
+    const float overcast = 0.80f + 0.05f * skyY;
+    if (shading.cloudContrast <= 0) return overcast;
+    return overcast + static_cast<float>(shading.cloudContrast) *
+                          fractalNoise(skyX + shading.cloudShift, skyY, 0.2, 3, shading.seed + 400);
+}
+
+}  // namespace
+
+float shadeSample(const Shading& shading, int material, const VertexAttributes& a, float skyX, float skyY) {
+    if (material < 0) return sky(shading, skyX, skyY);
+    // What the surface scatters, and on top of it what it mirrors towards this eye (highlight.hpp).
+    return diffuseLight(shading, material, a) + a[kAttributeHighlight];
 }
 
 }  // namespace icewatch::synth

@@ -89,6 +89,7 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
         double distanceMm = 850.0;
         double rollDeg = 0.0;
         double cloudDrift = 0.0;
+        double gloss = 0.0;
         bool force = false;
         bool json = false;
     };
@@ -138,6 +139,10 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
                     "soft clouds in the sky, drifting by this share of the image's width between the captures, "
                     "0..0.5 (0: an even overcast)")
         ->check(CLI::Range(0.0, synth::kMaxCloudDrift));
+    cmd->add_option("--gloss", o->gloss,
+                    "highlights: the peak of the light that wet ice mirrors towards the eye, 0..1 (the blade's coat "
+                    "a third of it, rime none; 0: every surface matte); each eye sees a highlight at another place")
+        ->check(CLI::Range(0.0, synth::kMaxGloss));
     cmd->add_option("--out", o->out, "scene directory to write")->required();
     addForceFlag(*cmd, o->force);
     cmd->add_flag("--json", o->json, "print what was written as one JSON object");
@@ -169,6 +174,7 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
             spec.distanceMm = o->distanceMm;
             spec.rollDeg = o->rollDeg;
             spec.cloudDrift = o->cloudDrift;
+            spec.gloss = o->gloss;
             Progress progress("synth");
             progress.show("rendering " + o->mode + " x " + std::to_string(spec.frames) + " frames");
             const synth::SyntheticScene scene = synth::renderScene(spec);
