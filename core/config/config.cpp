@@ -78,6 +78,7 @@ void readVolume(Section s, volume::Parameters& v) {
     s.read("outline_min_correlation", v.outlineMinCorrelation, 0.0, 1.0);
     s.read("outline_min_contrast_grey", v.outlineMinContrastGrey, 0.0, 255.0);
     s.read("outline_fringe_px", v.outlineFringePx, 0, 200);
+    s.read("outline_max_obliquity_deg", v.outlineMaxObliquityDeg, 0.0, 90.0);
     s.read("knn_k", v.knnK, 2, 100);
     s.read("knn_theta", v.knnTheta, 0.1, 20.0);
     s.read("grid_cell_mm", v.gridCellMm, 0.05, 100.0);

@@ -155,6 +155,9 @@ void checkSpec(const SceneSpec& spec) {
     if (!(spec.cloudDrift >= 0 && spec.cloudDrift <= kMaxCloudDrift)) {
         throw InvalidInput("synthetic scene: the clouds' drift must be between 0 and 0.5 of the image");
     }
+    if (!(std::abs(spec.tiltDeg) <= kMaxTiltDeg && std::abs(spec.swingDeg) <= kMaxTiltDeg)) {
+        throw InvalidInput("synthetic scene: the object's tilt and swing must be between -45 and 45 degrees");
+    }
     if (!(spec.gloss >= 0 && spec.gloss <= kMaxGloss)) {
         throw InvalidInput("synthetic scene: the gloss must be between 0 and 1");
     }
@@ -223,8 +226,10 @@ SyntheticScene renderScene(const SceneSpec& spec) {
 
     // Nearly fronto-parallel, tilted by a few degrees so the surface spans a range of disparities.
     const bool blade = spec.kind == SceneKind::Blade;
-    // The roll turns the object in the image (a blade parked at another angle), about the view axis.
-    const Pose before{rotationFromDegrees({0, 0, spec.rollDeg}) *
+    // The roll turns the object in the image (a blade parked at another angle), about the view axis;
+    // the tilt and the swing turn it out of the view (a blade on a table seen from above at an angle).
+    const Pose before{rotationFromDegrees({spec.tiltDeg, 0, 0}) * rotationFromDegrees({0, spec.swingDeg, 0}) *
+                          rotationFromDegrees({0, 0, spec.rollDeg}) *
                           rotationFromDegrees({uniform(-3, 3), uniform(2, 5), uniform(-2, 2)}),
                       {uniform(-10, 10), uniform(-10, 10), spec.distanceMm}};
     // The motion is drawn either way, so that a seed's pose, look and noise do not depend on it.

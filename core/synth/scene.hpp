@@ -69,6 +69,7 @@ inline constexpr double kMaxDistanceMm = 1500.0;
 inline constexpr double kMaxLightTurnDeg = 60.0;
 inline constexpr double kMaxCloudDrift = 0.5;
 inline constexpr double kMaxGloss = 1.0;
+inline constexpr double kMaxTiltDeg = 45.0;
 
 struct SceneSpec {
     SceneKind kind = SceneKind::Blade;
@@ -87,6 +88,10 @@ struct SceneSpec {
     double lightTurnDeg = 0.0; // the current capture's light direction turned by this (the sun moved)
     double distanceMm = 850.0;  // camera to object
     double rollDeg = 0.0;       // the object turned by this about the view axis (in the image)
+    // The object turned out of the view: about the image's horizontal axis (tilt: seen from above
+    // or below, its chord foreshortened) and its vertical axis (swing: one end nearer than the other).
+    double tiltDeg = 0.0;
+    double swingDeg = 0.0;
     // Clouds drift behind the object by this share of the image's width between the captures
     // (0: an even overcast without clouds), where the sky shows.
     double cloudDrift = 0.0;

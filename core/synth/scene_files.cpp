@@ -54,6 +54,8 @@ nlohmann::json truthJson(const SyntheticScene& scene, const SceneSpec& spec) {
             {"light_turn_deg", spec.lightTurnDeg},
             {"distance_mm", spec.distanceMm},
             {"roll_deg", spec.rollDeg},
+            {"tilt_deg", spec.tiltDeg},
+            {"swing_deg", spec.swingDeg},
             {"cloud_drift", spec.cloudDrift},
             {"motion_rotation_deg", vec3(scene.motion.rotationDeg)},
             {"motion_translation_mm", vec3(scene.motion.translationMm)},

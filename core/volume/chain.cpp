@@ -38,6 +38,7 @@
 #include "core/volume/registration.hpp"
 #include "core/volume/roi.hpp"
 #include "core/volume/seen_through.hpp"
+#include "core/volume/silhouette.hpp"
 #include "core/volume/texture_tracks.hpp"
 #include "core/volume/thickness_map.hpp"
 #include "core/volume/uncertainty.hpp"
@@ -494,6 +495,14 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     if (map.insideNodes == 0) return refused(result, "the region covers no part of the measured surface");
     result.filledPercent = 100.0 * map.filledNodes / std::max(1, map.iceNodes);
     timer.lap("grid");
+    if (map.taperedNodes > 0 && viewObliquityDeg(plane) > p.outlineMaxObliquityDeg) {
+        std::ostringstream reason;
+        reason.precision(3);
+        reason << "ice stands out of the outline where only the background it hides shows it, read as a bead seen "
+                  "from the front, and the object is turned "
+               << viewObliquityDeg(plane) << "° out of the view (max " << p.outlineMaxObliquityDeg << "°)";
+        return refused(result, reason.str());
+    }
     if (result.filledPercent > p.maxFilledPercent) {
         std::ostringstream reason;
         reason.precision(3);

@@ -24,6 +24,29 @@ cv::Mat textureOf(const cv::Mat& image) {
     return grey - blurred;
 }
 
+// A tile's texture with what stands out of it clipped: to kClipSpreads robust standard deviations
+// (1.4826 · the median of |texture|; the texture is zero-mean). A highlight is tens of grey levels
+// brighter than a blade's faint composite; unclipped it decides the correlation of every tile it
+// crosses, and it does not move with the blade.
+constexpr double kClipSpreads = 3.0;
+
+cv::Mat clipped(const cv::Mat& texture) {
+    std::vector<float> magnitudes;
+    magnitudes.reserve(texture.total());
+    for (int y = 0; y < texture.rows; ++y) {
+        const auto* row = texture.ptr<float>(y);
+        for (int x = 0; x < texture.cols; ++x) magnitudes.push_back(std::abs(row[x]));
+    }
+    if (magnitudes.empty()) return texture.clone();
+    const auto mid = magnitudes.begin() + static_cast<std::ptrdiff_t>(magnitudes.size() / 2);
+    std::nth_element(magnitudes.begin(), mid, magnitudes.end());
+    const double bound = kClipSpreads * 1.4826 * *mid;
+    cv::Mat out;
+    cv::min(texture, bound, out);
+    cv::max(out, -bound, out);
+    return out;
+}
+
 // Tiles of 64 px, every 32 px: a blade's chord at 2560x720 holds one across (it is ~100 px).
 constexpr int kTilePx = 64;
 constexpr int kTileStepPx = 32;
@@ -80,7 +103,7 @@ double medianTileCorrelation(const cv::Mat& from, const cv::Mat& to, const cv::M
         for (int x = 0; x + kTilePx <= from.cols; x += kTileStepPx) {
             const cv::Rect tile(x, y, kTilePx, kTilePx);
             if (cv::countNonZero(inside(tile)) < kTileObjectShare * tile.area()) continue;
-            tiles.push_back(maskedCorrelation(from(tile), movedBack(tile), inside(tile)));
+            tiles.push_back(maskedCorrelation(clipped(from(tile)), clipped(movedBack(tile)), inside(tile)));
         }
     if (tiles.empty()) return maskedCorrelation(from, movedBack, inside);
     const auto mid = tiles.begin() + static_cast<std::ptrdiff_t>(tiles.size() / 2);
@@ -188,7 +211,7 @@ std::optional<cv::Point2d> tileFound(const cv::Mat& from, const cv::Mat& to, con
                                    tile.size() + cv::Size(2 * kTileSearchPx, 2 * kTileSearchPx));
     if ((area & cv::Rect(cv::Point(0, 0), to.size())) != area) return std::nullopt;
     cv::Mat score;
-    cv::matchTemplate(to(area), from(tile), score, cv::TM_CCOEFF_NORMED);
+    cv::matchTemplate(clipped(to(area)), clipped(from(tile)), score, cv::TM_CCOEFF_NORMED);
     cv::Point peak;
     cv::minMaxLoc(score, nullptr, nullptr, nullptr, &peak);
     auto vertex = [](float before, float at, float after) {

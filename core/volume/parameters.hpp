@@ -72,6 +72,13 @@ struct Parameters {
     // pixels (on a rendered bead, against the truth: the baseline 0.15 px nearer at 2-4 px from
     // the outline, 0.03 px at 10-12 px, the current capture within 0.03 px throughout).
     int outlineFringePx = 12;
+    // Ice seen only by the background it hides is tapered from the outline's height over the
+    // background it hides: a bead seen from the front. On an object turned out of the view by
+    // more than this (silhouette.hpp: viewObliquityDeg), a bead's height shows as reach and its
+    // reach hides behind it: the chain refuses. A rendered bead on a blade turned 30° away read
+    // -74 % and -92 % outside its uncertainty there (the object's plane 17° out of the view); the
+    // blades face the camera within 10°.
+    double outlineMaxObliquityDeg = 15.0;
 
     // --- outlier filter (the seed paper, section 2.2) ---
     int knnK = 8;             // neighbours in the plane

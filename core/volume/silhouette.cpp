@@ -109,4 +109,9 @@ cv::Mat hiddenOnGrid(const cv::Mat& hidden, const GridSpec& grid, const PlaneFra
     return onGrid;
 }
 
+double viewObliquityDeg(const PlaneFrame& plane) {
+    const double along = std::abs(cv::normalize(plane.origin).dot(plane.normal));
+    return std::acos(std::min(1.0, along)) * 180.0 / CV_PI;
+}
+
 }  // namespace icewatch::volume

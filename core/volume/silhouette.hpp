@@ -43,4 +43,8 @@ cv::Mat backgroundHidden(const cv::Mat& baselineGrey, const cv::Mat& currentGrey
 cv::Mat hiddenOnGrid(const cv::Mat& hidden, const GridSpec& grid, const PlaneFrame& plane, const cv::Mat& heightMm,
                      const RigidTransform& toBaseline, const cv::Matx33d& k);
 
+// How far the object's plane is turned out of the view, degrees: the angle between its normal and
+// the camera's ray to its origin (0: facing the camera).
+double viewObliquityDeg(const PlaneFrame& plane);
+
 }  // namespace icewatch::volume

@@ -88,6 +88,8 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
         double lightTurnDeg = 0.0;
         double distanceMm = 850.0;
         double rollDeg = 0.0;
+        double tiltDeg = 0.0;
+        double swingDeg = 0.0;
         double cloudDrift = 0.0;
         double gloss = 0.0;
         bool force = false;
@@ -135,6 +137,14 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
                     "the object turned about the view axis by this many degrees (a blade parked at another angle), "
                     "-180..180 (180: tip and leading edge the other way round); it must still fit in the frame")
         ->check(CLI::Range(-synth::kMaxRollDeg, synth::kMaxRollDeg));
+    cmd->add_option("--tilt", o->tiltDeg,
+                    "the object turned about the image's horizontal axis by this many degrees (seen from above or "
+                    "below: a blade on a table looked at from an angle, its chord foreshortened), -45..45")
+        ->check(CLI::Range(-synth::kMaxTiltDeg, synth::kMaxTiltDeg));
+    cmd->add_option("--swing", o->swingDeg,
+                    "the object turned about the image's vertical axis by this many degrees (one end nearer than the "
+                    "other), -45..45; it must still fit in the frame")
+        ->check(CLI::Range(-synth::kMaxTiltDeg, synth::kMaxTiltDeg));
     cmd->add_option("--clouds", o->cloudDrift,
                     "soft clouds in the sky, drifting by this share of the image's width between the captures, "
                     "0..0.5 (0: an even overcast)")
@@ -173,6 +183,8 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
             spec.lightTurnDeg = o->lightTurnDeg;
             spec.distanceMm = o->distanceMm;
             spec.rollDeg = o->rollDeg;
+            spec.tiltDeg = o->tiltDeg;
+            spec.swingDeg = o->swingDeg;
             spec.cloudDrift = o->cloudDrift;
             spec.gloss = o->gloss;
             Progress progress("synth");

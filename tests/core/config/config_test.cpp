@@ -126,6 +126,7 @@ TEST(Config, ShippedFileDocumentsTheDefaults) {
     EXPECT_EQ(v.outlineMinTextureGrey, d.outlineMinTextureGrey);
     EXPECT_EQ(v.outlineMinCorrelation, d.outlineMinCorrelation);
     EXPECT_EQ(v.outlineMinContrastGrey, d.outlineMinContrastGrey);
+    EXPECT_EQ(v.outlineMaxObliquityDeg, d.outlineMaxObliquityDeg);
     EXPECT_EQ(v.scaleUncertaintyPercent, d.scaleUncertaintyPercent);
     EXPECT_EQ(v.knnK, d.knnK);
     EXPECT_EQ(v.knnTheta, d.knnTheta);

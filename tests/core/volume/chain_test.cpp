@@ -197,6 +197,21 @@ TEST(VolumeChain, ABeadAgainstTheSkyReadLowBesideTheOutlineIsWithinItsUncertaint
     EXPECT_GT(r.beyondOutlineMm3, 0.15 * b.scene.iceVolumeMm3) << "the bead is seen in front of the outline";
 }
 
+// The same bead on a blade turned 30° away about the image's horizontal axis (its plane 17° out of
+// the view): read as a bead seen from the front, it said ok at -74 % (50 564 ± 78 983 mm³ against
+// 197 717). It is refused, and says why.
+TEST(VolumeChain, ABeadAgainstTheSkyOnABladeTurnedOutOfTheViewIsRefused) {
+    synth::SceneSpec spec = smallBladeSpec();
+    spec.ice = synth::IceKind::Bead;
+    spec.seed = 1;
+    spec.iceVolumeMm3 = 197717;
+    spec.tiltDeg = -30;
+    const AveragedBlade b = measureAveragedBlade(spec, stereo::Method::Paper);
+    const VolumeResult& r = b.result;
+    ASSERT_FALSE(r.ok) << "measured " << r.volumeMm3 << " ± " << r.uncertaintyMm3 << " truth " << b.scene.iceVolumeMm3;
+    EXPECT_NE(r.reason.find("out of the view"), std::string::npos) << r.reason;
+}
+
 // A clear glaze over a blade on a table (seed 2: so clear that the composite keeps its contrast),
 // rendered as light goes, the blade seen under the ice along rays the ice bends, and as a renderer
 // that paints the blade's texture on the ice's surface draws it. Stereo saw the first raised by a

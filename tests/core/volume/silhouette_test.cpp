@@ -112,5 +112,21 @@ TEST(Silhouette, ScatteredPixelsAreNotHiddenBackgroundABandIs) {
     EXPECT_EQ(cv::countNonZero(hidden(cv::Rect(140, 51, 20, 1))), 20);
 }
 
+TEST(Silhouette, AnObjectsObliquityIsItsNormalsAngleToTheRayToIt) {
+    PlaneFrame plane;
+    plane.origin = {0.0, 0.0, 850.0};
+    plane.axisU = {1.0, 0.0, 0.0};
+    plane.axisV = {0.0, 1.0, 0.0};
+    plane.normal = {0.0, 0.0, -1.0};
+    EXPECT_NEAR(viewObliquityDeg(plane), 0.0, 1e-4);  // acos near 1
+    const double turn = 20.0 * CV_PI / 180.0;
+    plane.normal = {0.0, std::sin(turn), -std::cos(turn)};
+    EXPECT_NEAR(viewObliquityDeg(plane), 20.0, 1e-4);
+    // Off the axis, facing the camera head-on is facing along the ray to it.
+    plane.origin = {300.0, 0.0, 850.0};
+    plane.normal = -cv::normalize(plane.origin);
+    EXPECT_NEAR(viewObliquityDeg(plane), 0.0, 1e-4);
+}
+
 }  // namespace
 }  // namespace icewatch::volume
