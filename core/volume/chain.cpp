@@ -495,12 +495,13 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     if (map.insideNodes == 0) return refused(result, "the region covers no part of the measured surface");
     result.filledPercent = 100.0 * map.filledNodes / std::max(1, map.iceNodes);
     timer.lap("grid");
-    if (map.taperedNodes > 0 && viewObliquityDeg(plane) > p.outlineMaxObliquityDeg) {
+    if (const double obliquityDeg = viewObliquityDeg(plane);
+        map.taperedNodes > 0 && obliquityDeg > p.outlineMaxObliquityDeg) {
         std::ostringstream reason;
         reason.precision(3);
         reason << "ice stands out of the outline where only the background it hides shows it, read as a bead seen "
                   "from the front, and the object is turned "
-               << viewObliquityDeg(plane) << "° out of the view (max " << p.outlineMaxObliquityDeg << "°)";
+               << obliquityDeg << "° out of the view (max " << p.outlineMaxObliquityDeg << "°)";
         return refused(result, reason.str());
     }
     if (result.filledPercent > p.maxFilledPercent) {
