@@ -3,6 +3,7 @@
 #include <sys/resource.h>
 
 #include <chrono>
+#include <filesystem>
 #include <iostream>
 
 #include <nlohmann/json.hpp>
@@ -11,6 +12,7 @@
 #include "core/config/config.hpp"
 #include "core/common/side_by_side.hpp"
 #include "core/pictures/debug_directory.hpp"
+#include "core/stereo/disparity_io.hpp"
 #include "core/volume/capture_average.hpp"
 #include "core/volume/chain.hpp"
 #include "core/volume/scene_files.hpp"
@@ -82,7 +84,8 @@ void addVolumeCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunctio
     cmd->add_option("--method", o->method, "integration: trapz (default) or sum")->check(CLI::IsMember({"trapz", "sum"}));
     cmd->add_option("--stereo-method", o->stereoMethod, "matcher: paper, adcensus or sgbm (default: configuration)");
     cmd->add_option("--config", o->config, "configuration file whose \"volume\" and \"stereo\" sections to use");
-    cmd->add_option("--debug-dir", o->debugDir, "write left.png, disparity.png, thickness.png (refused too, with the reason) and cloud.ply here");
+    cmd->add_option("--debug-dir", o->debugDir, "write left.png, disparity.png, thickness.png (refused too, with the reason), cloud.ply and both "
+                    "captures' disparities as measured (disparity_baseline.pfm, disparity_current.pfm) here");
     cmd->add_flag("--json", o->json, "print the result as one JSON object");
     addForceFlag(*cmd, o->force);
     cmd->add_flag("--compare-full-frame", o->compareFullFrame,
@@ -150,6 +153,9 @@ void addVolumeCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunctio
                 const pictures::MeasurementPictures drawn =
                     pictures::drawMeasurement(current, r, parameters.maxDisparity, configuration.pictures);
                 pictures::writeDebugDirectory(drawn, r, configuration.pictures, o->debugDir);
+                // The matcher's own numbers, to hold against a rendered scene's true disparities.
+                stereo::writePfm(std::filesystem::path(o->debugDir) / "disparity_baseline.pfm", baseline.disparity);
+                stereo::writePfm(std::filesystem::path(o->debugDir) / "disparity_current.pfm", current.disparity);
             }
             progress.done();
             nlohmann::json timings = timingsJson(current.timingsMs);
