@@ -21,6 +21,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
+#include <string>
 #include <sstream>
 
 #include <opencv2/imgproc.hpp>
@@ -39,6 +41,7 @@
 #include "core/volume/roi.hpp"
 #include "core/volume/seen_through.hpp"
 #include "core/volume/silhouette.hpp"
+#include "core/volume/slanted_refinement.hpp"
 #include "core/volume/texture_tracks.hpp"
 #include "core/volume/thickness_map.hpp"
 #include "core/volume/uncertainty.hpp"
@@ -141,6 +144,33 @@ void checkParameters(const Parameters& p) {
     }
 }
 
+// Ice standing out of the outline on an object turned out of the view: what the camera sees of it
+// hides what lies behind it, the background or the object's own surface, and the chain reads that
+// hidden space as ice (a bead read as if seen from the front, a horn whose underside the view
+// does not reach). Facing the camera, the hidden space is only the ice's own footprint. The ice
+// beyond the outline counts when the taper read it from the background it hides, or when it is
+// larger than the outline's own uncertainty (k times its term): less is the outline's noise.
+std::optional<std::string> outlineObliquityProblem(const ThicknessMap& map, const PlaneFrame& plane,
+                                                   const VolumeResult& result, const Parameters& p) {
+    const double obliquityDeg = viewObliquityDeg(plane);
+    if (obliquityDeg <= p.outlineMaxObliquityDeg) return std::nullopt;
+    const double outlineNoise = p.coverageFactor * result.budget.outlineMm3;
+    std::ostringstream reason;
+    reason.precision(3);
+    if (map.taperedNodes > 0) {
+        reason << "ice stands out of the outline where only the background it hides shows it, read as a bead seen "
+                  "from the front, and the object is turned ";
+    } else if (result.beyondOutlineMm3 > outlineNoise) {
+        reason << "ice stands out of the outline (" << std::lround(result.beyondOutlineMm3)
+               << " mm3, more than the outline's uncertainty of " << std::lround(outlineNoise)
+               << " mm3) and hides what lies behind it, which would read as ice: the object is turned ";
+    } else {
+        return std::nullopt;
+    }
+    reason << obliquityDeg << "° out of the view (max " << p.outlineMaxObliquityDeg << "°)";
+    return reason.str();
+}
+
 }  // namespace
 
 struct VolumeChain::Impl {
@@ -161,6 +191,13 @@ struct VolumeChain::Impl {
     std::shared_ptr<const BaselineModel> baselineModel(const Surface& baseline, const cv::Mat& points) const;
     // A baseline with a configured outline: its region and band from a coarse pass (match_region.hpp).
     MatchRegion coarseRegion(const StereoPair& raw);
+    // The matcher's windows face the camera; on an object turned out of the view they leave a
+    // staircase that moves with the ice (slanted_refinement.hpp). Facing the camera, the matcher
+    // is what the tables measured, and the slanted windows are not run.
+    bool turnedOutOfTheView(const PlaneFrame& plane) const;
+    // `disparity` (the matcher's window) measured again on slanted windows over the region's box.
+    void refineOnSlantedWindows(const cv::Mat& left, const cv::Mat& right, const MatchRegion& region,
+                                const cv::Rect& window, cv::Mat& disparity) const;
 };
 
 namespace {
@@ -253,12 +290,18 @@ Surface VolumeChain::Impl::measure(StereoPair raw, const Surface* baseline) {
     s.matched.band = region.empty() ? stereo::DisparityRange{0, parameters.maxDisparity} : region.band;
     s.matchedWindow = window;
     cv::Mat disparity = matcher.compute(left, right, s.matched.band);
+    timer.lap("match");
+    // A later capture as its baseline was: on a slanted window where the baseline's object is
+    // turned out of the view.
+    if (baseline && baseline->model && turnedOutOfTheView(baseline->model->plane)) {
+        refineOnSlantedWindows(left, right, region, window, disparity);
+        timer.lap("slanted");
+    }
     if (!region.empty()) {
         // Left of the region's box the window only served as the right eye's reach.
         disparity(cv::Rect(0, 0, region.box.x - window.x, window.height)).setTo(stereo::kInvalidDisparity);
     }
     s.disparity = placedInFrame(disparity, window, size, stereo::kInvalidDisparity);
-    timer.lap("match");
     // After the match, so that none of it is held while the matcher's buffers are.
     s.leftGrey = placedInFrame(left, window, size, 0.0f);
     s.leftGrey.convertTo(s.rectifiedLeft, CV_8U);
@@ -306,6 +349,16 @@ Surface VolumeChain::Impl::measure(StereoPair raw, const Surface* baseline) {
     if (!baseline && cv::countNonZero(s.roi) > 0) {
         s.model = baselineModel(s, points);
         timer.lap("model");
+        // Only the baseline's own plane tells whether its object is turned out of the view: then
+        // its disparities are measured again on slanted windows, and its model with them.
+        if (turnedOutOfTheView(s.model->plane)) {
+            // `disparity` is still the matcher's, over its window, as placed in the frame.
+            refineOnSlantedWindows(left, right, region, window, disparity);
+            disparity.copyTo(s.disparity(window));
+            timer.lap("slanted");
+            s.model = baselineModel(s, reproject(s.disparity, calibration.Q, window));
+            timer.lap("model");
+        }
     }
     if (!baseline && parameters.matchRegion) {
         s.followUp = followUpRegion(s);
@@ -314,6 +367,20 @@ Surface VolumeChain::Impl::measure(StereoPair raw, const Surface* baseline) {
     }
     timer.lap("region");
     return s;
+}
+
+bool VolumeChain::Impl::turnedOutOfTheView(const PlaneFrame& plane) const {
+    return parameters.slantedWindow && viewObliquityDeg(plane) > parameters.slantedWindowMinObliquityDeg;
+}
+
+void VolumeChain::Impl::refineOnSlantedWindows(const cv::Mat& left, const cv::Mat& right, const MatchRegion& region,
+                                               const cv::Rect& window, cv::Mat& disparity) const {
+    // Both captures alike over the region's box, where the volume and its ring are read.
+    const cv::Rect area = region.empty() ? cv::Rect({0, 0}, window.size()) : region.box - window.tl();
+    SlantedRefinement slanted;
+    slanted.radius = parameters.slantedWindowRadiusPx;
+    slanted.maxSigmaPx = parameters.slantedWindowMaxSigmaPx;
+    refineSlanted(left, right, area, slanted, disparity);
 }
 
 MatchRegion VolumeChain::Impl::coarseRegion(const StereoPair& raw) {
@@ -495,15 +562,6 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     if (map.insideNodes == 0) return refused(result, "the region covers no part of the measured surface");
     result.filledPercent = 100.0 * map.filledNodes / std::max(1, map.iceNodes);
     timer.lap("grid");
-    if (const double obliquityDeg = viewObliquityDeg(plane);
-        map.taperedNodes > 0 && obliquityDeg > p.outlineMaxObliquityDeg) {
-        std::ostringstream reason;
-        reason.precision(3);
-        reason << "ice stands out of the outline where only the background it hides shows it, read as a bead seen "
-                  "from the front, and the object is turned "
-               << obliquityDeg << "° out of the view (max " << p.outlineMaxObliquityDeg << "°)";
-        return refused(result, reason.str());
-    }
     if (result.filledPercent > p.maxFilledPercent) {
         std::ostringstream reason;
         reason.precision(3);
@@ -529,6 +587,7 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
                                       result.volumeMm3, seen);
     result.uncertaintyMm3 = expandedUncertainty(result.budget, p.coverageFactor);
     timer.lap("uncertainty");
+    if (auto problem = outlineObliquityProblem(map, plane, result, p)) return refused(result, *problem);
 
     // --- for people (core/pictures draws it) ---
     const cv::Matx33d kInv = impl_->projection.get_minor<3, 3>(0, 0).inv();

@@ -25,6 +25,15 @@ struct Parameters {
     // only around it (match_region.hpp); false: every capture over the whole frame and every
     // disparity (the comparison benchmark's "full frame").
     bool matchRegion = true;
+    // The matcher's disparities measured again on the averaged images with a window that leans
+    // with the surface (slanted_refinement.hpp), where the baseline's object is turned more than
+    // slantedWindowMinObliquityDeg out of the view: there the matcher's staircase falls elsewhere
+    // once ice changed the shape, and reads as ice or as ice gone. The window's radius, and the
+    // standard error above which the matcher's value stands.
+    bool slantedWindow = true;
+    double slantedWindowMinObliquityDeg = 15.0;
+    int slantedWindowRadiusPx = 6;
+    double slantedWindowMaxSigmaPx = 0.1;
 
     // --- region of interest ---
     // The object's outline in left-eye pixels of the camera frame as x0, y0, x1, y1, ...; empty:

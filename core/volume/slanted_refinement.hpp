@@ -1,0 +1,38 @@
+#pragma once
+
+#include <opencv2/core.hpp>
+
+namespace icewatch::volume {
+
+// The matcher's disparities measured again on the averaged grey images, with a window that leans
+// with the surface. The matcher's windows and scanlines assume a surface facing the camera: on a
+// surface turned out of the view, or curved, over a weak texture, they return runs of one
+// disparity (a staircase) and hold the object's lower edge at its neighbours' disparity, errors of
+// up to a pixel and a half (ten millimetres at 850 mm). The ice changes the shape, so the steps fall
+// elsewhere in the current capture than in the baseline: the volume takes their difference as ice,
+// or as ice gone. A window whose right-eye footprint follows a plane, d + a·u + b·v, matches a
+// slanted surface as well as a facing one; the plane's slopes, a gain and an offset (light that
+// changed) are fitted with the disparity by Gauss-Newton, interpolating the right eye with a cubic
+// B-spline, whose sub-pixel shifts are unbiased where the linear kernel's are not.
+struct SlantedRefinement {
+    int radius = 6;            // (2r+1)^2 window
+    int iterations = 20;       // Gauss-Newton steps at most (a weak texture converges slowly)
+    double maxChangePx = 2.0;  // further from the matcher's value: not the same surface, the matcher's stands
+    // The fitted disparity's standard error (from the residual and the window's texture) above
+    // which the window cannot tell (ice, sky, a blank patch): the matcher's value stands.
+    double maxSigmaPx = 0.1;
+};
+
+struct SlantedRefinementCount {
+    int refined = 0;  // pixels whose disparity the slanted window replaced
+    int kept = 0;     // valid pixels whose matcher's value stood
+};
+
+// Refines the valid disparities (>= 0) of `disparity` (CV_32F, the size of the CV_32F grey
+// images `left`, `right`) inside `area`; the others stay. Each pixel reads only the images and
+// the matcher's disparities, never its neighbours' refined values, so the result does not depend
+// on the order or the thread.
+SlantedRefinementCount refineSlanted(const cv::Mat& left, const cv::Mat& right, const cv::Rect& area,
+                                     const SlantedRefinement& parameters, cv::Mat& disparity);
+
+}  // namespace icewatch::volume
