@@ -67,6 +67,8 @@ cv::Mat interpolateLattice(const cv::Mat& planePoints, const GridSpec& grid, con
     // little: a node covered twice gets the mean (taking the front one would bias upwards).
     cv::Mat sum(grid.nv, grid.nu, CV_64F, cv::Scalar(0.0)), count(grid.nv, grid.nu, CV_32S, cv::Scalar(0));
     auto valid = [](const cv::Vec3d& p) { return !std::isnan(p[2]); };
+    // cos(atan(1 / stepSlope)): an edge within that angle of the line of sight.
+    const double alongSight = steps.stepSlope > 0 ? steps.stepSlope / std::hypot(1.0, steps.stepSlope) : 1.0;
     auto rasterTriangle = [&](const cv::Vec3d& a, const cv::Vec3d& b, const cv::Vec3d& c) {
         // In grid index space.
         const double ax = (a[0] - grid.u0) / grid.du, ay = (a[1] - grid.v0) / grid.dv;
@@ -80,9 +82,13 @@ cv::Mat interpolateLattice(const cv::Mat& planePoints, const GridSpec& grid, con
         const int y1 = std::min(grid.nv - 1, static_cast<int>(std::floor(std::max({ay, by, cy}))));
         const double invArea = 1.0 / area;
         // An occlusion step: the far (lowest) surface continues under the near one.
-        auto rises = [&steps](const cv::Vec3d& p, const cv::Vec3d& q) {
+        auto rises = [&steps, alongSight](const cv::Vec3d& p, const cv::Vec3d& q) {
             const double dh = std::abs(p[2] - q[2]);
-            return dh > steps.stepMinMm && dh > steps.stepSlope * std::hypot(p[0] - q[0], p[1] - q[1]);
+            if (dh <= steps.stepMinMm) return false;
+            if (dh > steps.stepSlope * std::hypot(p[0] - q[0], p[1] - q[1])) return true;
+            if (!steps.seenFromEye) return false;
+            const cv::Vec3d edge = q - p, sight = 0.5 * (p + q) - steps.eye;
+            return std::abs(edge.dot(sight)) > alongSight * cv::norm(edge) * cv::norm(sight);
         };
         const bool step = steps.stepSlope > 0 && (rises(a, b) || rises(b, c) || rises(a, c));
         const double lowest = std::min({a[2], b[2], c[2]});

@@ -50,9 +50,15 @@ GridSpec makeGrid(double uMin, double uMax, double vMin, double vMax, double cel
 // edge, the only shape consistent with a surface hidden along the whole band). A triangle is a
 // step when one of its edges rises by more than `stepMinMm` and more than `stepSlope` times its
 // length in the plane; its nodes then take the lowest corner's h. stepSlope 0: no steps.
+// Seen at an angle, the hidden band lies along the line of sight, not along the plane's normal: an
+// edge that rises more than `stepMinMm` and runs within atan(1 / stepSlope) of the line from `eye`
+// (the camera's centre in the plane frame, when `seenFromEye`) is a step too. Facing the camera,
+// the two rules are one.
 struct StepOptions {
     double stepSlope = 0;
     double stepMinMm = 0;
+    bool seenFromEye = false;
+    cv::Vec3d eye = cv::Vec3d(0, 0, 0);
 };
 cv::Mat interpolateLattice(const cv::Mat& planePoints, const GridSpec& grid, const StepOptions& steps = {});
 

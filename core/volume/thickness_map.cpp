@@ -107,7 +107,8 @@ ThicknessMap thicknessMap(const PlaneClouds& clouds, const cv::Mat& roi, const c
     ThicknessMap map;
     map.grid = regionGrid(roi | ring, plane, k, p.gridCellMm);
     const GridSpec& grid = map.grid;
-    const StepOptions steps{p.occlusionSlope, p.occlusionStepMm};
+    const cv::Point3d eye = plane.toPlane(cv::Vec3d(0, 0, 0));
+    const StepOptions steps{p.occlusionSlope, p.occlusionStepMm, true, cv::Vec3d(eye.x, eye.y, eye.z)};
     const cv::Mat baselineHeight = interpolateLattice(clouds.baseline, grid, steps);
     const cv::Mat currentHeight = interpolateLattice(clouds.current, grid, steps);
     const bool anyRing = cv::countNonZero(ring) > 0;

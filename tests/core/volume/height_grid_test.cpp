@@ -103,6 +103,32 @@ TEST(HeightGrid, OcclusionStepsEndTheNearSurfaceInAWall) {
     EXPECT_DOUBLE_EQ(walled.at<double>(2, 4 * 15), 50.0);  // the top is untouched
 }
 
+// The same block seen from an eye 45° off its normal, up the u axis: the band it hides lies
+// behind the top's far edge (20 .. 70 at 50 mm) and slopes at 1 along the line of sight, far from
+// the plane's normal. Bridged, it counts a ramp as large as the block.
+TEST(HeightGrid, SeenAtAnAngleTheHiddenBandLiesAlongTheLineOfSight) {
+    std::vector<std::pair<double, double>> columns;  // u, h
+    for (int i = 0; i <= 10; ++i) columns.emplace_back(i, 0.0);
+    for (int i = 10; i <= 20; ++i) columns.emplace_back(i + 0.01, 50.0);
+    for (int i = 70; i <= 80; ++i) columns.emplace_back(i, 0.0);
+    cv::Mat cloud(6, static_cast<int>(columns.size()), CV_64FC3);
+    for (int y = 0; y < cloud.rows; ++y)
+        for (int x = 0; x < cloud.cols; ++x) cloud.at<cv::Vec3d>(y, x) = {columns[x].first, double(y), columns[x].second};
+    const GridSpec grid = makeGrid(0, 80, 0, 5, 0.25);
+    const double block = 50.0 * 10.0 * 5.0;
+    // The eye 800 mm away along (-1, 0, 1) / sqrt(2) from the hidden band's middle, over the plane.
+    const cv::Vec3d eye = cv::Vec3d(45, 2.5, 25) + 800.0 * cv::Vec3d(-1, 0, 1) / std::sqrt(2.0);
+    const cv::Mat normalOnly = interpolateLattice(cloud, grid, {4.0, 8.0});
+    EXPECT_GT(integrate(normalOnly, grid, Integration::Trapz), 1.8 * block);
+    const cv::Mat seen = interpolateLattice(cloud, grid, {4.0, 8.0, true, eye});
+    EXPECT_NEAR(integrate(seen, grid, Integration::Trapz), block, 0.05 * block);
+    EXPECT_DOUBLE_EQ(seen.at<double>(2, 4 * 40), 0.0);  // u = 40, hidden behind the top: ground
+    // Facing the camera the eye adds nothing to the normal's rule.
+    const cv::Mat facing = interpolateLattice(occludedBlockRows(), makeGrid(0, 30, 0, 5, 0.25), {4.0, 8.0, true, {15, 2.5, 800}});
+    const cv::Mat normal = interpolateLattice(occludedBlockRows(), makeGrid(0, 30, 0, 5, 0.25), {4.0, 8.0});
+    EXPECT_EQ(cv::norm(facing, normal, cv::NORM_INF), 0.0);
+}
+
 TEST(HeightGrid, SmallOrGentleRisesAreNotSteps) {
     // A 5 mm step (below step_min) and a 45° flank keep their linear interpolation.
     cv::Mat cloud(4, 3, CV_64FC3);
