@@ -107,10 +107,16 @@ ThicknessMap thicknessMap(const PlaneClouds& clouds, const cv::Mat& roi, const c
     ThicknessMap map;
     map.grid = regionGrid(roi | ring, plane, k, p.gridCellMm);
     const GridSpec& grid = map.grid;
-    const cv::Point3d eye = plane.toPlane(cv::Vec3d(0, 0, 0));
-    const StepOptions steps{p.occlusionSlope, p.occlusionStepMm, true, cv::Vec3d(eye.x, eye.y, eye.z)};
+    const StepOptions steps{p.occlusionSlope, p.occlusionStepMm};
     const cv::Mat baselineHeight = interpolateLattice(clouds.baseline, grid, steps);
     const cv::Mat currentHeight = interpolateLattice(clouds.current, grid, steps);
+    // The same with every band hidden along the line of sight ended in a wall: the least each
+    // surface may be where the camera did not see it.
+    const cv::Point3d eye = plane.toPlane(cv::Vec3d(0, 0, 0));
+    const StepOptions walls{p.occlusionSlope, p.occlusionStepMm, true, cv::Vec3d(eye.x, eye.y, eye.z)};
+    const cv::Mat baselineLeast = interpolateLattice(clouds.baseline, grid, walls);
+    const cv::Mat currentLeast = interpolateLattice(clouds.current, grid, walls);
+    map.hiddenMm = cv::Mat(grid.nv, grid.nu, CV_64F, cv::Scalar(0.0));
     const bool anyRing = cv::countNonZero(ring) > 0;
     const cv::Mat none(grid.nv, grid.nu, CV_64F, cv::Scalar(kNaN));
     const cv::Mat ringHeight = anyRing && !clouds.baselineRing.empty() ? interpolateLattice(clouds.baselineRing, grid, steps) : none;
@@ -154,6 +160,9 @@ ThicknessMap thicknessMap(const PlaneClouds& clouds, const cv::Mat& roi, const c
             if (!seenThrough.empty() && seenThrough.at<std::uint8_t>(y, x)) map.seenThrough.at<std::uint8_t>(j, i) = 255;
             ++map.iceNodes;
             map.thickness.at<double>(j, i) = currentHeight.at<double>(j, i) - baselineHeight.at<double>(j, i);
+            const double least = currentLeast.at<double>(j, i) - baselineLeast.at<double>(j, i);
+            const double bridged = map.thickness.at<double>(j, i) - least;
+            if (std::isfinite(bridged)) map.hiddenMm.at<double>(j, i) = bridged;
         }
     // Where both captures saw a surface the rise is a difference of two measurements, as inside,
     // and its noise, read off its spread (robustly: the ice is the minority), must not pass for ice:

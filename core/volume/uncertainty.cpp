@@ -144,6 +144,9 @@ UncertaintyBudget volumeUncertainty(const ThicknessMap& map, const PlaneFrame& p
     const double pullMm3 = (fringeMm3 + taperedMm3 + thinMm3) / std::sqrt(3.0);
     b.outlineMm3 = std::sqrt(footingMm3 * footingMm3 + unseenMm3 * unseenMm3 + shapeMm3 * shapeMm3 + pullMm3 * pullMm3);
     b.seenThroughMm3 = seenThroughSigmaMm3(seenThrough);
+    if (!map.hiddenMm.empty()) {
+        b.hiddenMm3 = cv::norm(map.hiddenMm, cv::NORM_L1) * map.grid.areaPerNodeMm2() / std::sqrt(3.0);
+    }
     return b;
 }
 
@@ -151,7 +154,8 @@ double expandedUncertainty(const UncertaintyBudget& b, double coverageFactor) {
     return coverageFactor * std::sqrt(b.noiseMm3 * b.noiseMm3 + b.registrationMm3 * b.registrationMm3 +
                                       b.trackingMm3 * b.trackingMm3 + b.pushMm3 * b.pushMm3 +
                                       b.biasMm3 * b.biasMm3 + b.edgeMm3 * b.edgeMm3 + b.scaleMm3 * b.scaleMm3 +
-                                      b.outlineMm3 * b.outlineMm3 + b.seenThroughMm3 * b.seenThroughMm3);
+                                      b.outlineMm3 * b.outlineMm3 + b.seenThroughMm3 * b.seenThroughMm3 +
+                                      b.hiddenMm3 * b.hiddenMm3);
 }
 
 }  // namespace icewatch::volume

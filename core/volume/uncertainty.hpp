@@ -21,6 +21,7 @@ struct UncertaintyBudget {
                                   // pull beside what stands out of it against featureless sky
     double scaleMm3 = 0;          // the depth scale and the matcher's response on ice, relative to the volume
     double seenThroughMm3 = 0;    // ice the object's texture was seen through: refraction (seen_through.hpp)
+    double hiddenMm3 = 0;         // bands hidden along the line of sight, bridged (ThicknessMap::hiddenMm)
 };
 
 // What the camera makes of a millimetre at the object's distance.
@@ -51,7 +52,10 @@ struct ViewGeometry {
 //                 not pass for edges;
 //   scale         scale_uncertainty_percent of the volume;
 //   seen through  ice the object's texture was seen through may be up to n/(n − 1) times as thick as
-//                 stereo sees it (seenThroughSigmaMm3).
+//                 stereo sees it (seenThroughSigmaMm3);
+//   hidden        a band the camera does not see along its line of sight, bridged by the
+//                 interpolation, may be anything from the far surface to the near one: the bridge
+//                 is the middle, uniformly (|hiddenMm| integrated, over √3).
 UncertaintyBudget volumeUncertainty(const ThicknessMap& map, const PlaneFrame& plane, const MotionEstimate& motion,
                                     const MatcherPush& push, const ViewGeometry& view, const Parameters& parameters,
                                     double volumeMm3, const SeenThroughIce& seenThrough = {});

@@ -53,6 +53,21 @@ TEST(VolumeUncertainty, ThePushCountsWithWhatIsNotKnownOfIt) {
                 std::hypot(0.01, 0.05) * depthPerPx * area, 1e-9);
 }
 
+// A band the camera did not see along its line of sight (behind a block's far edge seen at an
+// angle), bridged 6 mm above its least over 10 nodes: from the far surface to the near one, the
+// bridge the middle, uniformly. Where nothing was hidden the term is nothing.
+TEST(VolumeUncertainty, ABandHiddenAlongTheLineOfSightCountsFromTheFarSurfaceToTheNearOne) {
+    ThicknessMap map = flatMap();
+    PlaneFrame plane;
+    plane.origin = {0, 0, 1000};
+    const ViewGeometry view{1000.0, 60.0, 1000.0};
+    const Parameters p;
+    map.hiddenMm = cv::Mat(10, 20, CV_64F, cv::Scalar(0.0));
+    EXPECT_EQ(volumeUncertainty(map, plane, {}, {}, view, p, 800.0).hiddenMm3, 0.0);
+    map.hiddenMm(cv::Rect(5, 2, 10, 1)).setTo(6.0);
+    EXPECT_NEAR(volumeUncertainty(map, plane, {}, {}, view, p, 800.0).hiddenMm3, 10 * 6.0 * 4.0 / std::sqrt(3.0), 1e-9);
+}
+
 // Next to the outline the ring is blind for edge_margin_px and a ring patch's reach: ice on the
 // outline may stand out of it that far unseen. Ice beyond the outline closes that edge; its
 // footing counts instead.
