@@ -1,11 +1,13 @@
 #include "core/volume/slanted_refinement.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstddef>
+#include <vector>
 
 #include <Eigen/Dense>
 #include <opencv2/imgproc.hpp>
-#include <vector>
 
 #include "core/common/fixed_bands.hpp"
 
@@ -98,8 +100,9 @@ cv::Vec2d startSlopes(const cv::Mat& smoothed, int x, int y, int radius) {
     return {a, b};
 }
 
-// `right`: the right eye's spline coefficients.
-// Returns the refined disparity, or a negative value where the matcher's stands.
+// One pixel's window, from the matcher's value `start` and the plane's `slopes`; `right` holds the
+// right eye's spline coefficients. Returns the refined disparity, or a negative value where the
+// matcher's stands.
 double refinePixel(const cv::Mat& left, const cv::Mat& right, int x, int y, double start, cv::Vec2d slopes,
                    const SlantedRefinement& p) {
     const int r = p.radius;
