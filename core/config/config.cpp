@@ -89,7 +89,6 @@ void readVolume(Section s, volume::Parameters& v) {
     s.read("max_ice_thickness_mm", v.maxIceThicknessMm, 0.0, 2000.0);
     s.read("match_region", v.matchRegion);
     s.read("slanted_window", v.slantedWindow);
-    s.read("slanted_window_min_obliquity_deg", v.slantedWindowMinObliquityDeg, 0.0, 90.0);
     s.read("slanted_window_radius_px", v.slantedWindowRadiusPx, 1, 32);
     s.read("slanted_window_max_sigma_px", v.slantedWindowMaxSigmaPx, 0.001, 1.0);
     s.read("occlusion_slope", v.occlusionSlope, 0.0, 1000.0);

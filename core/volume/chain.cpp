@@ -191,13 +191,15 @@ struct VolumeChain::Impl {
     std::shared_ptr<const BaselineModel> baselineModel(const Surface& baseline, const cv::Mat& points) const;
     // A baseline with a configured outline: its region and band from a coarse pass (match_region.hpp).
     MatchRegion coarseRegion(const StereoPair& raw);
-    // The matcher's windows face the camera; on an object turned out of the view they leave a
-    // staircase that moves with the ice (slanted_refinement.hpp). Facing the camera, the matcher
-    // is what the tables measured, and the slanted windows are not run.
-    bool turnedOutOfTheView(const PlaneFrame& plane) const;
-    // `disparity` (the matcher's window) measured again on slanted windows over the region's box.
+    // `disparity` (the matcher's window) measured again on slanted windows over the region's box
+    // (slanted_refinement.hpp): the matcher's windows face the camera and its aggregation reaches
+    // 35 px, so on a curved or turned surface it leaves a staircase, and beside the ice it pushes
+    // the clean surface forward; both move with the ice.
+    // Facing the camera a window mostly off the centre's surface is a depth step, where the
+    // matcher does better; on an object turned out of the view (the baseline's plane, beyond
+    // outline_max_obliquity_deg) it is also the matcher's staircase, which the window is for.
     void refineOnSlantedWindows(const cv::Mat& left, const cv::Mat& right, const MatchRegion& region,
-                                const cv::Rect& window, cv::Mat& disparity) const;
+                                const cv::Rect& window, const PlaneFrame& baselinePlane, cv::Mat& disparity) const;
 };
 
 namespace {
@@ -291,10 +293,9 @@ Surface VolumeChain::Impl::measure(StereoPair raw, const Surface* baseline) {
     s.matchedWindow = window;
     cv::Mat disparity = matcher.compute(left, right, s.matched.band);
     timer.lap("match");
-    // A later capture as its baseline was: on a slanted window where the baseline's object is
-    // turned out of the view.
-    if (baseline && baseline->model && turnedOutOfTheView(baseline->model->plane)) {
-        refineOnSlantedWindows(left, right, region, window, disparity);
+    // A later capture as its baseline was (a baseline after its model, below).
+    if (baseline && baseline->model && parameters.slantedWindow) {
+        refineOnSlantedWindows(left, right, region, window, baseline->model->plane, disparity);
         timer.lap("slanted");
     }
     if (!region.empty()) {
@@ -349,11 +350,11 @@ Surface VolumeChain::Impl::measure(StereoPair raw, const Surface* baseline) {
     if (!baseline && cv::countNonZero(s.roi) > 0) {
         s.model = baselineModel(s, points);
         timer.lap("model");
-        // Only the baseline's own plane tells whether its object is turned out of the view: then
-        // its disparities are measured again on slanted windows, and its model with them.
-        if (turnedOutOfTheView(s.model->plane)) {
+        // Its own plane tells how to weigh the windows: its disparities are measured again on
+        // them, and its model with them.
+        if (parameters.slantedWindow) {
             // `disparity` is still the matcher's, over its window, as placed in the frame.
-            refineOnSlantedWindows(left, right, region, window, disparity);
+            refineOnSlantedWindows(left, right, region, window, s.model->plane, disparity);
             disparity.copyTo(s.disparity(window));
             timer.lap("slanted");
             s.model = baselineModel(s, reproject(s.disparity, calibration.Q, window));
@@ -369,17 +370,17 @@ Surface VolumeChain::Impl::measure(StereoPair raw, const Surface* baseline) {
     return s;
 }
 
-bool VolumeChain::Impl::turnedOutOfTheView(const PlaneFrame& plane) const {
-    return parameters.slantedWindow && viewObliquityDeg(plane) > parameters.slantedWindowMinObliquityDeg;
-}
-
 void VolumeChain::Impl::refineOnSlantedWindows(const cv::Mat& left, const cv::Mat& right, const MatchRegion& region,
-                                               const cv::Rect& window, cv::Mat& disparity) const {
+                                               const cv::Rect& window, const PlaneFrame& baselinePlane,
+                                               cv::Mat& disparity) const {
     // Both captures alike over the region's box, where the volume and its ring are read.
     const cv::Rect area = region.empty() ? cv::Rect({0, 0}, window.size()) : region.box - window.tl();
     SlantedRefinement slanted;
     slanted.radius = parameters.slantedWindowRadiusPx;
     slanted.maxSigmaPx = parameters.slantedWindowMaxSigmaPx;
+    if (viewObliquityDeg(baselinePlane) > parameters.outlineMaxObliquityDeg) {
+        slanted.minSupportShare = kTurnedOutOfTheViewSupportShare;
+    }
     refineSlanted(left, right, area, slanted, disparity);
 }
 
@@ -519,7 +520,11 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
         return refused(result, "registration moved the object by " + std::to_string(result.registrationMm) +
                                    " mm, more than max_registration_mm");
     }
-    const cv::Mat possibleIce = iceMask(baseline.roi, tracks, motion.clean, p.trackStepPx, p.iceMaskGrowPx);
+    // Grown by the reach of the surface's measurement around the ice: the slanted window's, or
+    // without it the matcher's aggregation, which spreads the ice's disparity 35 px around it.
+    const int reachPx = p.slantedWindow ? p.iceMaskGrowPx
+                                        : std::max(p.iceMaskGrowPx, matcherReachPx(p.stereoMethod, impl_->matcher.parameters()));
+    const cv::Mat possibleIce = iceMask(baseline.roi, tracks, motion.clean, p.trackStepPx, reachPx);
     result.iceMaskPercent = 100.0 * cv::countNonZero(possibleIce) / std::max(1, cv::countNonZero(baseline.roi));
     // The matcher against the tracks on the clean texture beside the ice, and on every texture
     // found again (under a clear layer too, where no clean texture is left): the larger counts.

@@ -26,12 +26,11 @@ struct Parameters {
     // disparity (the comparison benchmark's "full frame").
     bool matchRegion = true;
     // The matcher's disparities measured again on the averaged images with a window that leans
-    // with the surface (slanted_refinement.hpp), where the baseline's object is turned more than
-    // slantedWindowMinObliquityDeg out of the view: there the matcher's staircase falls elsewhere
-    // once ice changed the shape, and reads as ice or as ice gone. The window's radius, and the
-    // standard error above which the matcher's value stands.
+    // with the surface (slanted_refinement.hpp): the matcher's staircase on a curved or turned
+    // surface, and its push of the clean surface beside the ice, fall elsewhere once ice changed
+    // the shape, and read as ice or as ice gone. The window's radius, and the standard error
+    // above which the matcher's value stands.
     bool slantedWindow = true;
-    double slantedWindowMinObliquityDeg = 15.0;
     int slantedWindowRadiusPx = 6;
     double slantedWindowMaxSigmaPx = 0.1;
 
@@ -53,9 +52,10 @@ struct Parameters {
     // the object along both of its in-plane axes (tenths of its extent where the support holds a
     // third of the samples), unless a background it rests on fixes it.
     double minSupportSpanPercent = 25;
-    // The possible-ice mask grows by this much around what texture could not vouch for: the
-    // matcher's cross arms spread disparity about this far, and the ice's volume with it.
-    int iceMaskGrowPx = 40;
+    // The possible-ice mask grows by this much around what texture could not vouch for: the reach
+    // of the slanted window (twice its radius), which spreads the ice's volume that far. Without
+    // slanted windows the matcher's cross arms spread it further, and that reach is used.
+    int iceMaskGrowPx = 12;
     // Ice beyond the outline (beyond_outline.hpp): a bead or a horn on the leading edge stands
     // out of the clean outline. The current surface is looked at this far around the outline
     // (0: not at all); a part of it that touches the object counts when it rises somewhere this

@@ -62,54 +62,73 @@ cv::Mat splineCoefficients(const cv::Mat& image) {
     return coefficients;
 }
 
-// The matcher's disparities averaged over the valid pixels of a (2r+1)^2 box: the plane's start.
-cv::Mat smoothedValid(const cv::Mat& disparity, int radius) {
-    const cv::Mat valid = disparity >= 0;
-    cv::Mat values, weights;
-    disparity.copyTo(values);
-    values.setTo(0, ~valid);
-    valid.convertTo(weights, CV_32F, 1.0 / 255.0);
-    const cv::Size box(2 * radius + 1, 2 * radius + 1);
-    cv::boxFilter(values, values, CV_32F, box, {-1, -1}, false, cv::BORDER_CONSTANT);
-    cv::boxFilter(weights, weights, CV_32F, box, {-1, -1}, false, cv::BORDER_CONSTANT);
-    cv::Mat smoothed(disparity.size(), CV_32F, cv::Scalar(-1));
-    // Only where most of the box was measured: a slope read across a hole is a guess.
-    const float enough = 0.5f * static_cast<float>(box.area());
-    for (int y = 0; y < disparity.rows; ++y) {
-        const float* v = values.ptr<float>(y);
-        const float* w = weights.ptr<float>(y);
-        float* s = smoothed.ptr<float>(y);
-        for (int x = 0; x < disparity.cols; ++x) {
-            if (w[x] >= enough) s[x] = v[x] / w[x];
-        }
-    }
-    return smoothed;
-}
+// Which pixels of a window lie on the centre's surface: each weighted by how far the matcher's
+// disparity there is from a plane fitted to the matcher's disparities around the centre (Cauchy
+// weights, refitted three times from a plane facing the camera through the centre's value).
+// Across a depth step, a block's top against its plate, the other surface's right-eye footprint
+// lies elsewhere and would pull the plane towards it, a tenth of a pixel and more within a
+// window's radius of the step; the matcher's cross-shaped support keeps to one side of it, and
+// here its values tell which side is which. Occluded or unmatched pixels weigh nothing.
+// A staircase the matcher's facing windows leave on a slanted surface, steps under a pixel,
+// stays inside the plane's reach and keeps its weight.
+struct WindowSupport {
+    std::vector<double> weight;  // (2r+1)^2, row by row
+    double slopeX = 0, slopeY = 0;
+    double total = 0;
+};
 
-// The plane's slopes at (x, y) from the smoothed disparities a window's radius either side; 0
-// where a side is not known.
-cv::Vec2d startSlopes(const cv::Mat& smoothed, int x, int y, int radius) {
-    auto at = [&](int xx, int yy) {
-        if (xx < 0 || yy < 0 || xx >= smoothed.cols || yy >= smoothed.rows) return -1.0f;
-        return smoothed.at<float>(yy, xx);
-    };
-    const float left = at(x - radius, y), right = at(x + radius, y);
-    const float up = at(x, y - radius), down = at(x, y + radius);
-    const double a = left >= 0 && right >= 0 ? (right - left) / (2.0 * radius) : 0.0;
-    const double b = up >= 0 && down >= 0 ? (down - up) / (2.0 * radius) : 0.0;
-    return {a, b};
+// Fills `support` (kept by the caller from pixel to pixel: no allocation per pixel).
+void windowSupport(const cv::Mat& matched, int x, int y, const SlantedRefinement& p, WindowSupport& support) {
+    const int r = p.radius;
+    const int side = 2 * r + 1;
+    support.weight.assign(static_cast<std::size_t>(side * side), 0.0);
+    double c = matched.at<float>(y, x), a = 0, b = 0;
+    for (int pass = 0; pass <= 3; ++pass) {
+        // Weights from the plane of the last pass; the last pass only sets them.
+        Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
+        Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
+        support.total = 0;
+        for (int v = -r; v <= r; ++v) {
+            const float* m = matched.ptr<float>(y + v);
+            for (int u = -r; u <= r; ++u) {
+                double& w = support.weight[static_cast<std::size_t>((v + r) * side + u + r)];
+                const float d = m[x + u];
+                if (!(d >= 0)) {
+                    w = 0;
+                    continue;
+                }
+                const double off = (d - (c + a * u + b * v)) / p.supportPx;
+                w = 1.0 / (1.0 + off * off);
+                support.total += w;
+                const Eigen::Vector3d j(1.0, u, v);
+                normal += w * j * j.transpose();
+                rhs += w * d * j;
+            }
+        }
+        if (pass == 3) break;
+        const Eigen::Vector3d plane = normal.ldlt().solve(rhs);
+        if (!plane.allFinite()) break;
+        c = plane[0];
+        a = plane[1];
+        b = plane[2];
+    }
+    support.slopeX = a;
+    support.slopeY = b;
 }
 
 // One pixel's window, from the matcher's value `start` and the plane's `slopes`; `right` holds the
 // right eye's spline coefficients. Returns the refined disparity, or a negative value where the
 // matcher's stands.
-double refinePixel(const cv::Mat& left, const cv::Mat& right, int x, int y, double start, cv::Vec2d slopes,
+double refinePixel(const cv::Mat& left, const cv::Mat& right, int x, int y, double start, const WindowSupport& support,
                    const SlantedRefinement& p) {
     const int r = p.radius;
-    const int samples = (2 * r + 1) * (2 * r + 1);
+    const int side = 2 * r + 1;
+    // A window much of which lies off the centre's surface, beside a depth step or astride a
+    // hole, is where the matcher's cross-shaped support does better: its value stands.
+    if (support.total < p.minSupportShare * side * side) return -1.0;
     // Parameters: disparity, its slopes along x and y, the right eye's gain and offset.
     Vector5 q;
-    q << start, slopes[0], slopes[1], 1.0, 0.0;
+    q << start, support.slopeX, support.slopeY, 1.0, 0.0;
     bool converged = false;
     Matrix5 h;
     double squares = 0;
@@ -118,13 +137,16 @@ double refinePixel(const cv::Mat& left, const cv::Mat& right, int x, int y, doub
         // derivative along the disparity.
         double xx = 0, xxu = 0, xxv = 0, xxuu = 0, xxuv = 0, xxvv = 0;
         double xr1 = 0, xru = 0, xrv = 0, x1 = 0, xu = 0, xv = 0, rr = 0, r1 = 0;
-        double xe = 0, xue = 0, xve = 0, re = 0, e1 = 0;
+        double xe = 0, xue = 0, xve = 0, re = 0, e1 = 0, w1 = 0;
         squares = 0;
         for (int v = -r; v <= r; ++v) {
             const float* l = left.ptr<float>(y + v);
             const float* row = right.ptr<float>(y + v);
+            const double* weights = support.weight.data() + (v + r) * side + r;
             const double rowStart = x - q[0] - q[2] * v;
             for (int u = -r; u <= r; ++u) {
+                const double w = weights[u];
+                if (w == 0.0) continue;
                 const double xr = rowStart + u * (1.0 - q[1]);
                 const double base = std::floor(xr);
                 const int i = static_cast<int>(base);
@@ -134,36 +156,39 @@ double refinePixel(const cv::Mat& left, const cv::Mat& right, int x, int y, doub
                 const double value = c.value[0] * s[0] + c.value[1] * s[1] + c.value[2] * s[2] + c.value[3] * s[3];
                 const double slope = c.slope[0] * s[0] + c.slope[1] * s[1] + c.slope[2] * s[2] + c.slope[3] * s[3];
                 // model m = gain · R(xr) + offset; xr falls as the disparity rises.
-                const double e = l[x + u] - (q[3] * value + q[4]);
+                const double e = w * (l[x + u] - (q[3] * value + q[4]));
                 const double dx = -q[3] * slope;
-                const double dxdx = dx * dx;
+                const double wdx = w * dx;
+                const double dxdx = wdx * dx;
                 xx += dxdx;
                 xxu += dxdx * u;
                 xxv += dxdx * v;
                 xxuu += dxdx * u * u;
                 xxuv += dxdx * u * v;
                 xxvv += dxdx * v * v;
-                xr1 += dx * value;
-                xru += dx * value * u;
-                xrv += dx * value * v;
-                x1 += dx;
-                xu += dx * u;
-                xv += dx * v;
-                rr += value * value;
-                r1 += value;
+                xr1 += wdx * value;
+                xru += wdx * value * u;
+                xrv += wdx * value * v;
+                x1 += wdx;
+                xu += wdx * u;
+                xv += wdx * v;
+                rr += w * value * value;
+                r1 += w * value;
+                w1 += w;
+                // e carries the weight once: J'We and e'e/w summed below.
                 xe += dx * e;
                 xue += dx * u * e;
                 xve += dx * v * e;
                 re += value * e;
                 e1 += e;
-                squares += e * e;
+                squares += e * e / w;
             }
         }
         h << xx, xxu, xxv, xr1, x1,
              xxu, xxuu, xxuv, xru, xu,
              xxv, xxuv, xxvv, xrv, xv,
              xr1, xru, xrv, rr, r1,
-             x1, xu, xv, r1, static_cast<double>(samples);
+             x1, xu, xv, r1, w1;
         Vector5 g;
         g << xe, xue, xve, re, e1;
         const Eigen::LDLT<Matrix5> solver(h);
@@ -179,7 +204,7 @@ double refinePixel(const cv::Mat& left, const cv::Mat& right, int x, int y, doub
     }
     if (!converged || q[3] < 0.5 || q[3] > 2.0) return -1.0;
     // The disparity's variance: the residual's, through the inverse of the normal matrix.
-    const Matrix5 covariance = h.inverse() * (squares / (samples - 5));
+    const Matrix5 covariance = h.inverse() * (squares / (support.total - 5));
     if (!(covariance(0, 0) >= 0) || std::sqrt(covariance(0, 0)) > p.maxSigmaPx) return -1.0;
     return q[0];
 }
@@ -195,16 +220,17 @@ SlantedRefinementCount refineSlanted(const cv::Mat& left, const cv::Mat& right, 
     if (inside.empty()) return {};
     const cv::Mat matched = disparity.clone();
     const cv::Mat rightSpline = splineCoefficients(right);
-    const cv::Mat smoothed = smoothedValid(matched, r);
     std::array<int, kFixedBands> refined{}, kept{};
     forEachFixedBand(static_cast<std::size_t>(inside.height), [&](int band, std::size_t begin, std::size_t end) {
+        WindowSupport support;
         for (auto row = begin; row < end; ++row) {
             const int y = inside.y + static_cast<int>(row);
             const float* m = matched.ptr<float>(y);
             float* out = disparity.ptr<float>(y);
             for (int x = inside.x; x < inside.x + inside.width; ++x) {
                 if (m[x] < 0) continue;
-                const double d = refinePixel(left, rightSpline, x, y, m[x], startSlopes(smoothed, x, y, r), parameters);
+                windowSupport(matched, x, y, parameters, support);
+                const double d = refinePixel(left, rightSpline, x, y, m[x], support, parameters);
                 if (d >= 0) {
                     out[x] = static_cast<float>(d);
                     ++refined[static_cast<std::size_t>(band)];

@@ -1,5 +1,6 @@
 #include "core/volume/slanted_refinement.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -75,16 +76,71 @@ double meanAbsoluteError(const cv::Mat& disparity, const cv::Mat& truth, const c
 TEST(SlantedRefinement, TakesTheStaircaseOffASurfaceTurnedOutOfTheView) {
     // 0.08 px of disparity per row: a surface turned 45° about the image's horizontal axis at
     // 850 mm, as a blade on a table seen from above at an angle.
+    // The chain asks for less of the window's support there: a staircase of 0.75 px steps keeps
+    // its pixels within the support's reach, but not all of their weight.
     const SlantedScene s = slantedPlane(30.0, 0.01, 0.08, 1.0, 0.0);
     cv::Mat disparity = staircase(s.truth, 0.75);
     const cv::Rect area(40, 20, 160, 80);
     const double before = meanAbsoluteError(disparity, s.truth, area);
     ASSERT_GT(before, 0.15);
-    const SlantedRefinementCount n = refineSlanted(s.left, s.right, area, SlantedRefinement{}, disparity);
+    SlantedRefinement turned;
+    turned.minSupportShare = kTurnedOutOfTheViewSupportShare;
+    const SlantedRefinementCount n = refineSlanted(s.left, s.right, area, turned, disparity);
     EXPECT_GT(n.refined, area.area() * 97 / 100);
     EXPECT_LT(meanAbsoluteError(disparity, s.truth, area), 0.01);
     // Outside the area nothing changed.
     EXPECT_EQ(disparity.at<float>(5, 5), staircase(s.truth, 0.75).at<float>(5, 5));
+}
+
+// A facing surface at disparity `far` with a nearer one (`near`) right of column `stepX`, as a
+// block's top against its plate: the right eye sees the near surface where it covers the far one,
+// and the left pixels of the far surface it hides have no match (-1 in `truth`).
+SlantedScene depthStep(double far, double near, int stepX) {
+    const Texture texture(11);
+    const cv::Size size(240, 120);
+    SlantedScene s{cv::Mat(size, CV_32F), cv::Mat(size, CV_32F), cv::Mat(size, CV_32F)};
+    for (int y = 0; y < size.height; ++y) {
+        for (int x = 0; x < size.width; ++x) {
+            s.left.at<float>(y, x) = static_cast<float>(texture(x, y));
+            const bool onNear = x >= stepX;
+            const bool hidden = !onNear && x - far >= stepX - near;
+            s.truth.at<float>(y, x) = hidden ? -1.0f : static_cast<float>(onNear ? near : far);
+            const double xl = x + near >= stepX ? x + near : x + far;
+            s.right.at<float>(y, x) = static_cast<float>(texture(xl, y));
+        }
+    }
+    return s;
+}
+
+TEST(SlantedRefinement, KeepsToOneSideOfADepthStep) {
+    // A 4 px step (a block 60 mm high at 850 mm). Windows within their radius of it hold pixels of
+    // the other surface; weighted by the matcher's disparities, they fit the centre's own.
+    const SlantedScene s = depthStep(30.0, 34.0, 120);
+    const cv::Rect nearStep(120 - 8, 20, 16, 80);
+    auto errorBesideTheStep = [&](const SlantedRefinement& p) {
+        cv::Mat disparity = s.truth.clone();
+        refineSlanted(s.left, s.right, cv::Rect(40, 20, 160, 80), p, disparity);
+        double sum = 0;
+        int n = 0;
+        for (int y = nearStep.y; y < nearStep.br().y; ++y)
+            for (int x = nearStep.x; x < nearStep.br().x; ++x) {
+                const float truth = s.truth.at<float>(y, x);
+                if (truth < 0) continue;
+                sum += std::abs(disparity.at<float>(y, x) - truth);
+                ++n;
+            }
+        return sum / std::max(1, n);
+    };
+    EXPECT_LT(errorBesideTheStep(SlantedRefinement{}), 0.02);
+    // Asking for half the window's support only (as on an object turned out of the view), the
+    // weights alone keep the plane to its side.
+    SlantedRefinement half;
+    half.minSupportShare = kTurnedOutOfTheViewSupportShare;
+    EXPECT_LT(errorBesideTheStep(half), 0.02);
+    // Every pixel of the window weighing alike, the plane leans across the step.
+    SlantedRefinement unweighted = half;
+    unweighted.supportPx = 1e6;
+    EXPECT_GT(errorBesideTheStep(unweighted), 0.05);
 }
 
 TEST(SlantedRefinement, IsUnbiasedAtEveryFractionOfAPixel) {
@@ -99,10 +155,13 @@ TEST(SlantedRefinement, IsUnbiasedAtEveryFractionOfAPixel) {
 }
 
 TEST(SlantedRefinement, IgnoresAChangeOfLightBetweenTheEyes) {
+    // A staircase of whole pixels, as on an object turned out of the view.
     const SlantedScene s = slantedPlane(30.0, 0.0, -0.05, 1.15, -8.0);
     cv::Mat disparity = staircase(s.truth, 1.0);
     const cv::Rect area(40, 20, 160, 80);
-    refineSlanted(s.left, s.right, area, SlantedRefinement{}, disparity);
+    SlantedRefinement turned;
+    turned.minSupportShare = kTurnedOutOfTheViewSupportShare;
+    refineSlanted(s.left, s.right, area, turned, disparity);
     EXPECT_LT(meanAbsoluteError(disparity, s.truth, area), 0.01);
 }
 
