@@ -3,6 +3,8 @@
 // the baseline's surface and estimates against it every cycle, and none of this changes between
 // cycles. The numbers are those an estimate would work out itself, to the last bit.
 
+#include <optional>
+
 #include <opencv2/core.hpp>
 
 #include "core/volume/height_grid.hpp"
@@ -36,6 +38,10 @@ struct BaselineModel {
 // `focalPx`: the rectified focal length.
 BaselineModel buildBaselineModel(const cv::Mat& roi, const cv::Mat& points, const RectifiedCapture& capture,
                                  const cv::Mat& leftGrey, double focalPx, const Parameters& parameters);
+
+// The plane buildBaselineModel fits, alone (none below min_points): what a baseline's slanted
+// windows need to know before its model is built on them.
+std::optional<PlaneFrame> baselinePlane(const cv::Mat& roi, const cv::Mat& points, const Parameters& parameters);
 
 // The texture trackers' options from the volume parameters.
 TextureTrackOptions textureTrackOptions(const Parameters& parameters);

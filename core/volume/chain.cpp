@@ -199,7 +199,8 @@ struct VolumeChain::Impl {
     // matcher does better; on an object turned out of the view (the baseline's plane, beyond
     // outline_max_obliquity_deg) it is also the matcher's staircase, which the window is for.
     void refineOnSlantedWindows(const cv::Mat& left, const cv::Mat& right, const MatchRegion& region,
-                                const cv::Rect& window, const PlaneFrame& baselinePlane, cv::Mat& disparity) const;
+                                const cv::Rect& window, const std::optional<PlaneFrame>& baselinePlane,
+                                cv::Mat& disparity) const;
 };
 
 namespace {
@@ -293,9 +294,9 @@ Surface VolumeChain::Impl::measure(StereoPair raw, const Surface* baseline) {
     s.matchedWindow = window;
     cv::Mat disparity = matcher.compute(left, right, s.matched.band);
     timer.lap("match");
-    // A later capture as its baseline was (a baseline after its model, below).
+    // A later capture as its baseline was (a baseline once its plane is known, below).
     if (baseline && baseline->model && parameters.slantedWindow) {
-        refineOnSlantedWindows(left, right, region, window, baseline->model->plane, disparity);
+        refineOnSlantedWindows(left, right, region, window, std::optional(baseline->model->plane), disparity);
         timer.lap("slanted");
     }
     if (!region.empty()) {
@@ -348,18 +349,16 @@ Surface VolumeChain::Impl::measure(StereoPair raw, const Surface* baseline) {
         }
     }
     if (!baseline && cv::countNonZero(s.roi) > 0) {
-        s.model = baselineModel(s, points);
-        timer.lap("model");
         // Its own plane tells how to weigh the windows: its disparities are measured again on
-        // them, and its model with them.
+        // them, and its model built with them.
         if (parameters.slantedWindow) {
             // `disparity` is still the matcher's, over its window, as placed in the frame.
-            refineOnSlantedWindows(left, right, region, window, s.model->plane, disparity);
+            refineOnSlantedWindows(left, right, region, window, baselinePlane(s.roi, points, parameters), disparity);
             disparity.copyTo(s.disparity(window));
             timer.lap("slanted");
-            s.model = baselineModel(s, reproject(s.disparity, calibration.Q, window));
-            timer.lap("model");
         }
+        s.model = baselineModel(s, parameters.slantedWindow ? reproject(s.disparity, calibration.Q, window) : points);
+        timer.lap("model");
     }
     if (!baseline && parameters.matchRegion) {
         s.followUp = followUpRegion(s);
@@ -371,14 +370,15 @@ Surface VolumeChain::Impl::measure(StereoPair raw, const Surface* baseline) {
 }
 
 void VolumeChain::Impl::refineOnSlantedWindows(const cv::Mat& left, const cv::Mat& right, const MatchRegion& region,
-                                               const cv::Rect& window, const PlaneFrame& baselinePlane,
+                                               const cv::Rect& window, const std::optional<PlaneFrame>& baselinePlane,
                                                cv::Mat& disparity) const {
     // Both captures alike over the region's box, where the volume and its ring are read.
     const cv::Rect area = region.empty() ? cv::Rect({0, 0}, window.size()) : region.box - window.tl();
     SlantedRefinement slanted;
     slanted.radius = parameters.slantedWindowRadiusPx;
     slanted.maxSigmaPx = parameters.slantedWindowMaxSigmaPx;
-    if (viewObliquityDeg(baselinePlane) > parameters.outlineMaxObliquityDeg) {
+    // Without a plane (too few points: the estimate refuses that baseline) as facing the camera.
+    if (baselinePlane && viewObliquityDeg(*baselinePlane) > parameters.outlineMaxObliquityDeg) {
         slanted.minSupportShare = kTurnedOutOfTheViewSupportShare;
     }
     refineSlanted(left, right, area, slanted, disparity);
