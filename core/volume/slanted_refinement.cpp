@@ -70,7 +70,7 @@ cv::Mat splineCoefficients(const cv::Mat& image) {
 // window's radius of the step; the matcher's cross-shaped support keeps to one side of it, and
 // here its values tell which side is which. Occluded or unmatched pixels weigh nothing.
 // A staircase the matcher's facing windows leave on a slanted surface, steps under a pixel,
-// stays inside the plane's reach and keeps its weight.
+// stays within the plane's reach and keeps most of its weight (minSupportShare).
 struct WindowSupport {
     std::vector<double> weight;  // (2r+1)^2, row by row
     double slopeX = 0, slopeY = 0;
@@ -116,8 +116,8 @@ void windowSupport(const cv::Mat& matched, int x, int y, const SlantedRefinement
     support.slopeY = b;
 }
 
-// One pixel's window, from the matcher's value `start` and the plane's `slopes`; `right` holds the
-// right eye's spline coefficients. Returns the refined disparity, or a negative value where the
+// One pixel's window, from the matcher's value `start`, weighted and started on the slopes of
+// `support`; `right` holds the right eye's spline coefficients. Returns the refined disparity, or a negative value where the
 // matcher's stands.
 double refinePixel(const cv::Mat& left, const cv::Mat& right, int x, int y, double start, const WindowSupport& support,
                    const SlantedRefinement& p) {
