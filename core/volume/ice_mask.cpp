@@ -41,38 +41,43 @@ cv::Mat iceMask(const cv::Mat& object, const std::vector<TextureTrack>& tracks, 
                 int stepPx, int growPx) {
     CV_Assert(object.type() == CV_8UC1 && tracks.size() == clean.size());
     const std::vector<std::uint8_t> vouches = vouchingSamples(object.size(), tracks, clean, stepPx);
-    // Each sample's cell (the stepPx square around it), 0 in the map of its kind.
+    // Each sample's cell (the stepPx square around it), 0 in the map of its kind, over the object's
+    // box and the cells' reach beyond it alone: every cell lies there, and the distances below are
+    // Euclidean, so the rest of the frame changes none of them.
     const cv::Rect frame({0, 0}, object.size());
     const int half = stepPx / 2;
-    cv::Mat notClean(object.size(), CV_8UC1, cv::Scalar(255)), notOther(object.size(), CV_8UC1, cv::Scalar(255));
-    for (std::size_t i = 0; i < tracks.size(); ++i) {
-        if (!tracks[i].onObject) continue;
-        const cv::Rect cell = cv::Rect(tracks[i].pixel.x - half, tracks[i].pixel.y - half, stepPx, stepPx) & frame;
-        (vouches[i] ? notClean : notOther)(cell).setTo(0);
-    }
-    // What no cell covers (the rim the patches cannot reach, a hole in the baseline's disparities)
-    // takes the word of the nearest cell: beside clean texture it is as clean, beside what did not
-    // vouch as possibly iced.
-    cv::Mat toClean, toOther;
-    cv::distanceTransform(notClean, toClean, cv::DIST_L2, cv::DIST_MASK_PRECISE);
-    cv::distanceTransform(notOther, toOther, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+    const cv::Rect box = cv::boundingRect(object);
+    const cv::Rect cells = (box + cv::Size(2 * stepPx, 2 * stepPx) - cv::Point(stepPx, stepPx)) & frame;
     cv::Mat mask = object.clone();
-    for (int y = 0; y < mask.rows; ++y) {
-        std::uint8_t* m = mask.ptr<std::uint8_t>(y);
-        const std::uint8_t* inClean = notClean.ptr<std::uint8_t>(y);
-        const std::uint8_t* inOther = notOther.ptr<std::uint8_t>(y);
-        const float* dc = toClean.ptr<float>(y);
-        const float* dn = toOther.ptr<float>(y);
-        for (int x = 0; x < mask.cols; ++x) {
-            const bool vouched = !inClean[x] || (inOther[x] && dc[x] < dn[x]);
-            if (vouched) m[x] = 0;
+    if (!cells.empty()) {
+        cv::Mat notClean(cells.size(), CV_8UC1, cv::Scalar(255)), notOther(cells.size(), CV_8UC1, cv::Scalar(255));
+        for (std::size_t i = 0; i < tracks.size(); ++i) {
+            if (!tracks[i].onObject) continue;
+            const cv::Rect cell = cv::Rect(tracks[i].pixel.x - half, tracks[i].pixel.y - half, stepPx, stepPx) & cells;
+            (vouches[i] ? notClean : notOther)(cell - cells.tl()).setTo(0);
+        }
+        // What no cell covers (the rim the patches cannot reach, a hole in the baseline's
+        // disparities) takes the word of the nearest cell: beside clean texture it is as clean,
+        // beside what did not vouch as possibly iced.
+        cv::Mat toClean, toOther;
+        cv::distanceTransform(notClean, toClean, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+        cv::distanceTransform(notOther, toOther, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+        for (int y = 0; y < cells.height; ++y) {
+            std::uint8_t* m = mask.ptr<std::uint8_t>(cells.y + y) + cells.x;
+            const std::uint8_t* inClean = notClean.ptr<std::uint8_t>(y);
+            const std::uint8_t* inOther = notOther.ptr<std::uint8_t>(y);
+            const float* dc = toClean.ptr<float>(y);
+            const float* dn = toOther.ptr<float>(y);
+            for (int x = 0; x < cells.width; ++x) {
+                const bool vouched = !inClean[x] || (inOther[x] && dc[x] < dn[x]);
+                if (vouched) m[x] = 0;
+            }
         }
     }
     if (growPx > 0) {
         // Only the object's box and the reach of the growth around it: nothing outside it is set,
         // and the frame's zeros beyond it are the dilation's own border (a tenth of the time of
         // dilating the frame with a disc this large).
-        const cv::Rect box = cv::boundingRect(object);
         const cv::Rect reach = (box + cv::Size(2 * growPx, 2 * growPx) - cv::Point(growPx, growPx)) & frame;
         if (!reach.empty()) {
             cv::Mat part = mask(reach);

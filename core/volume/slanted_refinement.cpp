@@ -117,8 +117,8 @@ void windowSupport(const cv::Mat& matched, int x, int y, const SlantedRefinement
 }
 
 // One pixel's window, from the matcher's value `start`, weighted and started on the slopes of
-// `support`; `right` holds the right eye's spline coefficients. Returns the refined disparity, or a negative value where the
-// matcher's stands.
+// `support`; `right` holds the right eye's spline coefficients. Returns the refined disparity, or
+// a negative value where the matcher's stands.
 double refinePixel(const cv::Mat& left, const cv::Mat& right, int x, int y, double start, const WindowSupport& support,
                    const SlantedRefinement& p) {
     const int r = p.radius;
