@@ -199,8 +199,8 @@ struct VolumeChain::Impl {
     // matcher does better; on an object turned out of the view (the baseline's plane, beyond
     // outline_max_obliquity_deg) it is also the matcher's staircase, which the window is for.
     void refineOnSlantedWindows(const cv::Mat& left, const cv::Mat& right, const MatchRegion& region,
-                                const cv::Rect& window, const std::optional<PlaneFrame>& baselinePlane,
-                                cv::Mat& disparity) const;
+                                const cv::Rect& window, const cv::Mat& roi, bool ofBaseline,
+                                const std::optional<PlaneFrame>& baselinePlane, cv::Mat& disparity) const;
 };
 
 namespace {
@@ -296,7 +296,8 @@ Surface VolumeChain::Impl::measure(StereoPair raw, const Surface* baseline) {
     timer.lap("match");
     // A later capture as its baseline was (a baseline once its plane is known, below).
     if (baseline && baseline->model && parameters.slantedWindow) {
-        refineOnSlantedWindows(left, right, region, window, std::optional(baseline->model->plane), disparity);
+        refineOnSlantedWindows(left, right, region, window, baseline->roi, false,
+                               std::optional(baseline->model->plane), disparity);
         timer.lap("slanted");
     }
     if (!region.empty()) {
@@ -353,7 +354,8 @@ Surface VolumeChain::Impl::measure(StereoPair raw, const Surface* baseline) {
         // them, and its model built with them.
         if (parameters.slantedWindow) {
             // `disparity` is still the matcher's, over its window, as placed in the frame.
-            refineOnSlantedWindows(left, right, region, window, baselinePlane(s.roi, points, parameters), disparity);
+            refineOnSlantedWindows(left, right, region, window, s.roi, true,
+                                   baselinePlane(s.roi, points, parameters), disparity);
             disparity.copyTo(s.disparity(window));
             timer.lap("slanted");
         }
@@ -370,9 +372,12 @@ Surface VolumeChain::Impl::measure(StereoPair raw, const Surface* baseline) {
 }
 
 void VolumeChain::Impl::refineOnSlantedWindows(const cv::Mat& left, const cv::Mat& right, const MatchRegion& region,
-                                               const cv::Rect& window, const std::optional<PlaneFrame>& baselinePlane,
+                                               const cv::Rect& window, const cv::Mat& roi, bool ofBaseline,
+                                               const std::optional<PlaneFrame>& baselinePlane,
                                                cv::Mat& disparity) const {
-    // Both captures alike over the region's box, where the volume and its ring are read.
+    // Both captures alike over the region's box, where the volume and its ring are read, and there
+    // only as far from the region as its surface is read: the box also holds the matcher's reach,
+    // and around a blade most of it is sky, where every window fails after its first steps.
     const cv::Rect area = region.empty() ? cv::Rect({0, 0}, window.size()) : region.box - window.tl();
     SlantedRefinement slanted;
     slanted.radius = parameters.slantedWindowRadiusPx;
@@ -381,7 +386,29 @@ void VolumeChain::Impl::refineOnSlantedWindows(const cv::Mat& left, const cv::Ma
     if (baselinePlane && viewObliquityDeg(*baselinePlane) > parameters.outlineMaxObliquityDeg) {
         slanted.minSupportShare = kTurnedOutOfTheViewSupportShare;
     }
-    refineSlanted(left, right, area, slanted, disparity);
+    if (parameters.slantedWindowAsBefore) {
+        slanted.giveUpSigmaPx = std::numeric_limits<double>::infinity();
+        refineSlantedReference(left, right, area, slanted, disparity);
+        return;
+    }
+    cv::Mat where;
+    if (!region.empty() && cv::countNonZero(roi(window)) > 0) {
+        const cv::Mat outside = roi(window) == 0;
+        cv::Mat distance;
+        cv::distanceTransform(outside, distance, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+        where = distance <= region.surfaceMarginPx();
+        // A baseline's disparity also starts the stereo track of every tracker sample, on the
+        // background too (a table the object lies on): a start off by the matcher's staircase
+        // on a turned table may end in another minimum of that track's short search.
+        if (ofBaseline) {
+            for (int y = 0; y < where.rows; ++y) {
+                auto* row = where.ptr<std::uint8_t>(y);
+                for (int x = 0; x < where.cols; ++x)
+                    if (isSamplePixel(window.x + x, window.y + y, parameters.trackStepPx)) row[x] = 255;
+            }
+        }
+    }
+    refineSlanted(left, right, area, slanted, disparity, where);
 }
 
 MatchRegion VolumeChain::Impl::coarseRegion(const StereoPair& raw) {

@@ -20,6 +20,10 @@ struct MatchRegion {
     int reachPx = 0;              // of that, what the matcher's own windows need (crop edge effects)
 
     bool empty() const { return box.empty(); }
+    // How far around the region its surface is read: the motion the registration accepts, the
+    // trackers' patches and the ring where ice may stand out of the outline (the margin less the
+    // matcher's reach, which only the matching needs).
+    int surfaceMarginPx() const { return marginPx - reachPx; }
 };
 
 // Pixels around a pixel whose values change its disparity: the cross arms of aggregation and the

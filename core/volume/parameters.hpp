@@ -33,6 +33,9 @@ struct Parameters {
     bool slantedWindow = true;
     int slantedWindowRadiusPx = 6;
     double slantedWindowMaxSigmaPx = 0.1;
+    // Not configurable: the stage as it was before it was made fast, the plain kernel over the
+    // whole region's box, every window fitted to its end (`icewatch volume --compare-slanted`).
+    bool slantedWindowAsBefore = false;
 
     // --- region of interest ---
     // The object's outline in left-eye pixels of the camera frame as x0, y0, x1, y1, ...; empty:

@@ -120,6 +120,7 @@ BaselineSamples baselineSamples(const RectifiedCapture& baseline, const cv::Mat&
     cv::erode(object, inside, kernel);
     cv::dilate(object, outside, kernel);
     BaselineSamples samples;
+    // The pixels isSamplePixel names (the slanted windows refine them for these tracks).
     for (int y = o.stepPx / 2; y < object.rows; y += o.stepPx)
         for (int x = o.stepPx / 2; x < object.cols; x += o.stepPx) {
             const bool in = inside.at<std::uint8_t>(y, x) != 0;

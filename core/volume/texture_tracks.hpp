@@ -30,6 +30,12 @@ struct TextureTrackOptions {
     double maxBrightnessChange = 0.04;
 };
 
+// Whether a pixel is one of the baseline's texture samples (before the object's outline picks
+// among them): every stepPx pixels in x and y, half a step in from the frame's corner.
+inline bool isSamplePixel(int x, int y, int stepPx) {
+    return x % stepPx == stepPx / 2 && y % stepPx == stepPx / 2;
+}
+
 // Where one baseline texture sample went, in three dimensions.
 struct TextureTrack {
     enum class State {

@@ -53,7 +53,7 @@ TEST(VolumeCli, SynthWritesACompleteSceneDirectory) {
 TEST(VolumeCli, JsonSaysWhereTheCurrentCaptureWasMatchedAndThePeakMemory) {
     const auto dir = smallScene();
     const auto r = test::runProgram({icewatchBin(), "volume", "--scene", dir.string(), "--stereo-method", "sgbm",
-                                     "--json", "--compare-full-frame"});
+                                     "--json", "--compare-full-frame", "--compare-slanted"});
     ASSERT_TRUE(r.status == 0 || r.status == 1) << r.err;  // ok or refused: both print the document
     const auto out = nlohmann::json::parse(r.out);
     const auto& m = out.at("matched_region");
@@ -65,6 +65,15 @@ TEST(VolumeCli, JsonSaysWhereTheCurrentCaptureWasMatchedAndThePeakMemory) {
     const auto& full = out.at("full_frame");
     EXPECT_GT(full.at("capture_ms").get<double>(), 0.0);
     EXPECT_GT(full.at("speedup").get<double>(), 0.0);
+    // The slanted windows as they were, beside them as they are: both ran, and measured alike.
+    const auto& slanted = out.at("slanted_before");
+    EXPECT_GT(slanted.at("slanted_ms").get<double>(), 0.0);
+    EXPECT_GT(slanted.at("slanted_now_ms").get<double>(), 0.0);
+    EXPECT_EQ(slanted.at("status"), out.at("status"));
+    if (out.at("status") == "ok") {
+        EXPECT_NEAR(slanted.at("volume_mm3").get<double>(), out.at("volume_mm3").get<double>(),
+                    0.5 * out.at("uncertainty_mm3").get<double>());
+    }
 }
 
 TEST(VolumeCli, MissingFileIsNamed) {

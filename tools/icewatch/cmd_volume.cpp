@@ -58,6 +58,31 @@ double captureChainMs(const volume::Surface& current, const volume::VolumeResult
     return total;
 }
 
+// The whole chain once more on a scene's captures, with other parameters (the comparisons).
+struct ChainRun {
+    volume::Surface baseline, current;
+    volume::VolumeResult result;
+};
+
+ChainRun runChain(const volume::SceneFiles& scene, const volume::Parameters& parameters,
+                  const stereo::Parameters& stereoParameters) {
+    volume::VolumeChain chain(scene.calibration, parameters, [] { return std::chrono::steady_clock::now(); },
+                              stereoParameters);
+    ChainRun run;
+    run.baseline = chain.measureSurface(scene.before.frame);
+    run.current = chain.measureSurface(scene.after.frame, run.baseline);
+    run.result = chain.estimate(run.baseline, run.current);
+    return run;
+}
+
+// One stage's time in a surface's measurement (0 when it did not run).
+double stageMs(const volume::Surface& surface, const std::string& stage) {
+    double total = 0;
+    for (const auto& [name, ms] : surface.timingsMs)
+        if (name == stage) total += ms;
+    return total;
+}
+
 nlohmann::json captureJson(const volume::AveragedCapture& capture) {
     nlohmann::json dropped = nlohmann::json::array();
     for (const auto& d : capture.dropped) dropped.push_back(d.reason);
@@ -77,6 +102,7 @@ void addVolumeCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunctio
         bool json = false;
         bool force = false;
         bool compareFullFrame = false;
+        bool compareSlanted = false;
     };
     auto o = std::make_shared<Options>();
     cmd->add_option("--scene", o->scene, "directory with calibration.yaml, before.png or before/ (a recording), after.png or after/ [, roi.json]")
@@ -91,6 +117,10 @@ void addVolumeCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunctio
     cmd->add_flag("--compare-full-frame", o->compareFullFrame,
                   "also measure the current capture over the whole frame and the full disparity range, and print "
                   "both times and their ratio (the peak memory then includes it)");
+    cmd->add_flag("--compare-slanted", o->compareSlanted,
+                  "also measure both captures with the slanted-window stage as it was before it was made fast (its "
+                  "plain kernel over the whole matched box, every window fitted to its end), and print both times, "
+                  "their ratio and that run's volume");
     cmd->callback([&run, o] {
         run = [o] {
             if (!o->debugDir.empty()) checkOutputDirectory(o->debugDir, o->force, "--debug-dir");
@@ -139,11 +169,12 @@ void addVolumeCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunctio
             progress.show("measuring the baseline");
             const volume::Surface baseline = chain.measureSurface(before.frame);
             // The baseline's average (17 MB at 3840x1080) is not read again unless compared.
-            if (!o->compareFullFrame) before.frame.release();
+            const bool compared = o->compareFullFrame || o->compareSlanted;
+            if (!compared) before.frame.release();
             progress.show("measuring the current capture");
             // Moved in unless compared later: the chain frees it once rectified (measureSurface).
             cv::Mat afterFrame = after.frame;
-            if (!o->compareFullFrame) after.frame.release();
+            if (!compared) after.frame.release();
             const volume::Surface current = chain.measureSurface(std::move(afterFrame), baseline);
             progress.show("estimating the ice");
             const volume::VolumeResult r = chain.estimate(baseline, current);
@@ -190,11 +221,9 @@ void addVolumeCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunctio
                 // The chain as it was: both captures over the whole frame, every disparity.
                 volume::Parameters wholeFrame = parameters;
                 wholeFrame.matchRegion = false;
-                volume::VolumeChain fullChain(scene.calibration, wholeFrame,
-                                              [] { return std::chrono::steady_clock::now(); }, configuration.stereo);
-                const volume::Surface fullBaseline = fullChain.measureSurface(before.frame);
-                const volume::Surface full = fullChain.measureSurface(after.frame, fullBaseline);
-                const volume::VolumeResult fr = fullChain.estimate(fullBaseline, full);
+                const ChainRun fullRun = runChain(scene, wholeFrame, configuration.stereo);
+                const volume::Surface& full = fullRun.current;
+                const volume::VolumeResult& fr = fullRun.result;
                 const double regionMs = captureChainMs(current, r), fullMs = captureChainMs(full, fr);
                 out["full_frame"] = {{"status", fr.ok ? "ok" : "refused"},
                                      {"volume_mm3", fr.ok ? fr.volumeMm3 : 0.0},
@@ -202,6 +231,20 @@ void addVolumeCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunctio
                                      {"region_capture_ms", regionMs},
                                      {"speedup", regionMs > 0 ? fullMs / regionMs : 0.0},
                                      {"peak_rss_mb", peakRssMb()}};
+            }
+            if (o->compareSlanted) {
+                // The same chain, its slanted windows as they were.
+                volume::Parameters asBefore = parameters;
+                asBefore.slantedWindowAsBefore = true;
+                const ChainRun old = runChain(scene, asBefore, configuration.stereo);
+                const volume::VolumeResult& orr = old.result;
+                const double nowMs = stageMs(current, "slanted") + stageMs(baseline, "slanted");
+                const double beforeMs = stageMs(old.current, "slanted") + stageMs(old.baseline, "slanted");
+                out["slanted_before"] = {{"status", orr.ok ? "ok" : "refused"},
+                                         {"volume_mm3", orr.ok ? orr.volumeMm3 : 0.0},
+                                         {"slanted_ms", beforeMs},
+                                         {"slanted_now_ms", nowMs},
+                                         {"speedup", nowMs > 0 ? beforeMs / nowMs : 0.0}};
             }
             if (r.ok) {
                 out["volume_mm3"] = r.volumeMm3;

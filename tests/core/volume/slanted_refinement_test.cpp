@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 #include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
 
 namespace icewatch::volume {
 namespace {
@@ -188,6 +189,87 @@ TEST(SlantedRefinement, KeepsTheMatchersValueWhereTheWindowFindsAnotherSurface) 
     refineSlanted(s.left, s.right, cv::Rect(40, 20, 160, 80), p, disparity);
     cv::Mat moved = cv::abs(disparity - 33.0f) > 0.5f;
     EXPECT_EQ(cv::countNonZero(moved), 0);
+}
+
+TEST(SlantedRefinement, TheFastKernelAgreesWithItsReference) {
+    // A staircase on a turned surface with noise on both eyes, a depth step, a blank band and
+    // holes: every way a window ends (refined, too little support, blank, moved too far).
+    SlantedScene s = slantedPlane(30.0, 0.01, 0.06, 1.1, -4.0);
+    const SlantedScene step = depthStep(30.0, 34.0, 150);
+    step.left.colRange(150, 240).copyTo(s.left.colRange(150, 240));
+    step.right.colRange(120, 240).copyTo(s.right.colRange(120, 240));
+    s.left(cv::Rect(60, 70, 40, 30)).setTo(200);
+    s.right(cv::Rect(40, 70, 70, 30)).setTo(200);
+    cv::RNG random(5);
+    cv::Mat noise(s.left.size(), CV_32F);
+    random.fill(noise, cv::RNG::NORMAL, 0.0, 0.4);
+    s.left += noise;
+    random.fill(noise, cv::RNG::NORMAL, 0.0, 0.4);
+    s.right += noise;
+    cv::Mat matched = staircase(s.truth, 0.5);
+    matched(cv::Rect(100, 30, 6, 6)).setTo(-1.0f);
+    matched(cv::Rect(180, 40, 10, 10)).setTo(37.0f);
+    for (const double share : {SlantedRefinement{}.minSupportShare, kTurnedOutOfTheViewSupportShare}) {
+        SlantedRefinement p;
+        p.minSupportShare = share;
+        cv::Mat fast = matched.clone(), reference = matched.clone();
+        const cv::Rect area(10, 10, 220, 100);
+        const SlantedRefinementCount nFast = refineSlanted(s.left, s.right, area, p, fast);
+        const SlantedRefinementCount nReference = refineSlantedReference(s.left, s.right, area, p, reference);
+        EXPECT_EQ(nFast.refined, nReference.refined) << share;
+        EXPECT_EQ(nFast.kept, nReference.kept) << share;
+        EXPECT_EQ(nFast.gaveUp, nReference.gaveUp) << share;
+        EXPECT_GT(nFast.refined, 1000) << share;
+        EXPECT_GT(nFast.kept, 1000) << share;
+        double largest = 0;
+        cv::minMaxLoc(cv::abs(fast - reference), nullptr, &largest);
+        EXPECT_LT(largest, 1e-4) << share;
+    }
+}
+
+TEST(SlantedRefinement, OnlyWhereAsked) {
+    const SlantedScene s = slantedPlane(30.0, 0.01, 0.08, 1.0, 0.0);
+    const cv::Mat matched = staircase(s.truth, 0.75);
+    cv::Mat where(matched.size(), CV_8U, cv::Scalar(0));
+    cv::circle(where, {120, 60}, 30, cv::Scalar(255), cv::FILLED);
+    SlantedRefinement turned;
+    turned.minSupportShare = kTurnedOutOfTheViewSupportShare;
+    cv::Mat everywhere = matched.clone(), inCircle = matched.clone();
+    refineSlanted(s.left, s.right, cv::Rect(20, 20, 200, 80), turned, everywhere);
+    const SlantedRefinementCount n = refineSlanted(s.left, s.right, cv::Rect(20, 20, 200, 80), turned, inCircle, where);
+    EXPECT_EQ(n.refined + n.kept, cv::countNonZero(where));
+    // Inside, what the whole area gives (each window reads only the matcher's values); outside,
+    // the matcher's.
+    EXPECT_EQ(cv::countNonZero((inCircle != everywhere) & where), 0);
+    EXPECT_EQ(cv::countNonZero((inCircle != matched) & ~where), 0);
+    EXPECT_GT(cv::countNonZero((inCircle != matched) & where), n.refined * 9 / 10);
+}
+
+TEST(SlantedRefinement, GivesUpOnABlankWindowWithinItsFirstSteps) {
+    // A faint ramp and noise (sky): the fit cannot tell a disparity there, and stops after its
+    // first steps instead of running all of them; the matcher's values stand either way.
+    cv::Mat left(120, 240, CV_32F), right(120, 240, CV_32F);
+    for (int y = 0; y < left.rows; ++y)
+        for (int x = 0; x < left.cols; ++x) left.at<float>(y, x) = right.at<float>(y, x) = 150.0f + 0.02f * x;
+    cv::RNG random(9);
+    cv::Mat noise(left.size(), CV_32F);
+    random.fill(noise, cv::RNG::NORMAL, 0.0, 0.3);
+    left += noise;
+    random.fill(noise, cv::RNG::NORMAL, 0.0, 0.3);
+    right += noise;
+    const cv::Mat matched(left.size(), CV_32F, cv::Scalar(25.0f));
+    const cv::Rect area(40, 20, 160, 80);
+    SlantedRefinement stopping, running = stopping;
+    running.giveUpSigmaPx = 1e9;
+    cv::Mat stopped = matched.clone(), ran = matched.clone();
+    const SlantedRefinementCount n = refineSlanted(left, right, area, stopping, stopped);
+    const SlantedRefinementCount all = refineSlanted(left, right, area, running, ran);
+    EXPECT_EQ(n.refined, 0);
+    EXPECT_EQ(all.refined, 0);
+    EXPECT_EQ(all.gaveUp, 0);
+    EXPECT_GT(n.gaveUp, n.kept / 2);
+    EXPECT_EQ(cv::countNonZero(stopped != matched), 0);
+    EXPECT_EQ(cv::countNonZero(ran != matched), 0);
 }
 
 }  // namespace
