@@ -387,7 +387,7 @@ void VolumeChain::Impl::refineOnSlantedWindows(const cv::Mat& left, const cv::Ma
         slanted.minSupportShare = kTurnedOutOfTheViewSupportShare;
     }
     if (parameters.slantedWindowAsBefore) {
-        slanted.giveUpSigmaPx = std::numeric_limits<double>::infinity();
+        slanted.giveUpFactor = std::numeric_limits<double>::infinity();
         refineSlantedReference(left, right, area, slanted, disparity);
         return;
     }

@@ -123,14 +123,15 @@ constexpr double kGaveUp = -2.0;
 
 // Whether a window, at this step of its fit, has gone where it will not come back from: past its
 // first giveUpAfterSteps steps, the disparity's standard error (from the residual and the normal
-// matrix) is over giveUpSigmaPx, twice the largest a result may have. A blank window (sky, white
+// matrix) is over giveUpFactor times the largest a result may have. A blank window (sky, white
 // ice) otherwise runs all its steps, or converges on a gain no light gives, and is refused then.
 bool hopeless(const Eigen::LDLT<Matrix5>& solver, double squares, double total, int step, const SlantedRefinement& p) {
     if (step < p.giveUpAfterSteps) return false;
     if (!(total > 5.0)) return true;
     const Vector5 first = solver.solve(Vector5::Unit(0));
     const double variance = first[0] * squares / (total - 5.0);
-    return variance > p.giveUpSigmaPx * p.giveUpSigmaPx;
+    const double limit = p.giveUpFactor * p.maxSigmaPx;
+    return variance > limit * limit;
 }
 
 // windowSupportReference with its sums written out (the normal matrix is symmetric: six sums and

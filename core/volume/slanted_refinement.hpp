@@ -21,11 +21,12 @@ struct SlantedRefinement {
     // The fitted disparity's standard error (from the residual and the window's texture) above
     // which the window cannot tell (ice, sky, a blank patch): the matcher's value stands.
     double maxSigmaPx = 0.1;
-    // Past its first giveUpAfterSteps steps, a fit whose standard error exceeds giveUpSigmaPx stops
-    // there, refused as above: it seldom comes back under maxSigmaPx (on a 16-frame blade 24 of
-    // the 105 000 windows that passed had been there), and the sky around the object, weakly
-    // textured, otherwise runs through every step or converges on a gain no light gives.
-    double giveUpSigmaPx = 0.2;
+    // Past its first giveUpAfterSteps steps, a fit whose standard error exceeds giveUpFactor times
+    // maxSigmaPx stops there, refused as above: it seldom comes back under the limit (on a
+    // 16-frame blade 24 of the 105 000 windows that passed had been there), and the sky around
+    // the object, weakly textured, otherwise runs through every step or converges on a gain no
+    // light gives.
+    double giveUpFactor = 2.0;
     int giveUpAfterSteps = 2;
     // How far (px) the matcher's disparity may lie off the window's plane and still weigh half:
     // pixels across a depth step belong to another surface and weigh next to nothing.
@@ -44,7 +45,7 @@ inline constexpr double kTurnedOutOfTheViewSupportShare = 0.5;
 struct SlantedRefinementCount {
     int refined = 0;  // pixels whose disparity the slanted window replaced
     int kept = 0;     // valid pixels whose matcher's value stood
-    int gaveUp = 0;   // of those, the fits stopped early (giveUpSigmaPx)
+    int gaveUp = 0;   // of those, the fits stopped early (giveUpFactor)
 };
 
 // Refines the valid disparities (>= 0) of `disparity` (CV_32F, the size of the CV_32F grey
@@ -54,8 +55,8 @@ struct SlantedRefinementCount {
 SlantedRefinementCount refineSlanted(const cv::Mat& left, const cv::Mat& right, const cv::Rect& area,
                                      const SlantedRefinement& parameters, cv::Mat& disparity,
                                      const cv::Mat& where = cv::Mat());
-// The plain twin of refineSlanted (each window's sums as the equations read, through Eigen):
-// tests hold the two together.
+// The plain twin of refineSlanted (the support's plane through Eigen's products, the fit's sums
+// pixel by pixel as the equations read): tests hold the two together.
 SlantedRefinementCount refineSlantedReference(const cv::Mat& left, const cv::Mat& right, const cv::Rect& area,
                                               const SlantedRefinement& parameters, cv::Mat& disparity,
                                               const cv::Mat& where = cv::Mat());

@@ -260,7 +260,7 @@ TEST(SlantedRefinement, GivesUpOnABlankWindowWithinItsFirstSteps) {
     const cv::Mat matched(left.size(), CV_32F, cv::Scalar(25.0f));
     const cv::Rect area(40, 20, 160, 80);
     SlantedRefinement stopping, running = stopping;
-    running.giveUpSigmaPx = 1e9;
+    running.giveUpFactor = 1e9;
     cv::Mat stopped = matched.clone(), ran = matched.clone();
     const SlantedRefinementCount n = refineSlanted(left, right, area, stopping, stopped);
     const SlantedRefinementCount all = refineSlanted(left, right, area, running, ran);
