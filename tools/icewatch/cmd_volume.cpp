@@ -167,12 +167,13 @@ void addVolumeCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunctio
             volume::AveragedCapture& before = scene.before;
             volume::AveragedCapture& after = scene.after;
             progress.show("measuring the baseline");
-            const volume::Surface baseline = chain.measureSurface(before.frame);
-            // The baseline's average (17 MB at 3840x1080) is not read again unless compared.
+            // Each average (17 MB at 3840x1080) is moved in unless compared later: the chain frees
+            // it once rectified (measureSurface), before the match, where the memory peaks.
             const bool compared = o->compareFullFrame || o->compareSlanted;
+            cv::Mat beforeFrame = before.frame;
             if (!compared) before.frame.release();
+            const volume::Surface baseline = chain.measureSurface(std::move(beforeFrame));
             progress.show("measuring the current capture");
-            // Moved in unless compared later: the chain frees it once rectified (measureSurface).
             cv::Mat afterFrame = after.frame;
             if (!compared) after.frame.release();
             const volume::Surface current = chain.measureSurface(std::move(afterFrame), baseline);
