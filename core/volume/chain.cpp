@@ -392,7 +392,7 @@ void VolumeChain::Impl::refineOnSlantedWindows(const cv::Mat& left, const cv::Ma
         return;
     }
     cv::Mat where;
-    if (!region.empty() && cv::countNonZero(roi(window)) > 0) {
+    if (!region.empty() && !roi.empty() && cv::countNonZero(roi(window)) > 0) {
         const cv::Mat outside = roi(window) == 0;
         cv::Mat distance;
         cv::distanceTransform(outside, distance, cv::DIST_L2, cv::DIST_MASK_PRECISE);
