@@ -615,7 +615,13 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     timer.lap("integrate");
 
     // --- uncertainty ---
-    result.budget = volumeUncertainty(map, plane, motion, push, {impl_->focalPx, impl_->baselineMm, depthMm}, p,
+    // Seen at an angle the ice's edges occlude the surface behind them, as far as the surface's
+    // measurement reaches (the same reach the ice mask grew by).
+    const double fatteningPx = viewObliquityDeg(plane) > p.outlineMaxObliquityDeg
+                                   ? (p.slantedWindow ? p.slantedWindowRadiusPx : reachPx)
+                                   : 0.0;
+    result.budget = volumeUncertainty(map, plane, motion, push,
+                                      {impl_->focalPx, impl_->baselineMm, depthMm, fatteningPx}, p,
                                       result.volumeMm3, seen);
     result.uncertaintyMm3 = expandedUncertainty(result.budget, p.coverageFactor);
     timer.lap("uncertainty");

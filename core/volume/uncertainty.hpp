@@ -16,6 +16,7 @@ struct UncertaintyBudget {
     double pushMm3 = 0;           // the matcher's change departing from the tracks' (matcher_push.hpp)
     double biasMm3 = 0;           // systematic sub-pixel disparity bias
     double edgeMm3 = 0;           // where the ice's edges are
+    double fatteningMm3 = 0;      // seen at an angle: the ice's nearer disparity carried over the surface behind it
     double outlineMm3 = 0;        // ice at the outline: the footing of what stands out of it, what may
                                   // stand out of it unseen (beyond_outline.hpp), and the matcher's
                                   // pull beside what stands out of it against featureless sky
@@ -29,6 +30,10 @@ struct ViewGeometry {
     double focalPx = 0;
     double baselineMm = 0;
     double depthMm = 0;  // of the object's plane
+    // How far (px) the surface's measurement may carry an occluding edge's disparity over the
+    // surface behind it: the slanted window's radius, or the matcher's reach. 0 where the object
+    // faces the camera and the ice's edges occlude next to nothing.
+    double fatteningPx = 0;
 };
 
 // Each error source carried to the volume integrated over the ice nodes of `map`:
@@ -50,6 +55,10 @@ struct ViewGeometry {
 //   edge          a shift of σ_e of every edge of height H and length L moves σ_e·H·L, i.e.
 //                 σ_e·∫|∇t|; the noise floor of |∇t| (its median) is taken off so that noise does
 //                 not pass for edges;
+//   fattening     on an object seen at an angle, the ice's edges stand in front of the surface
+//                 behind them, and a window centred on that surface takes the ice's nearer
+//                 disparity (foreground fattening): every edge may reach out by anything from none
+//                 to all of view.fatteningPx, uniformly, so σ = fatteningPx/√3 on the same ∫|∇t|;
 //   scale         scale_uncertainty_percent of the volume;
 //   seen through  ice the object's texture was seen through may be up to n/(n − 1) times as thick as
 //                 stereo sees it (seenThroughSigmaMm3);

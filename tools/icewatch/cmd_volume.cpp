@@ -258,6 +258,7 @@ void addVolumeCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunctio
                                                  {"edge", r.budget.edgeMm3},
                                                  {"scale", r.budget.scaleMm3},
                                                  {"outline", r.budget.outlineMm3},
+                                                 {"fattening", r.budget.fatteningMm3},
                                                  {"seen_through", r.budget.seenThroughMm3},
                                                  {"hidden", r.budget.hiddenMm3}};
                 out["mean_thickness_mm"] = r.meanThicknessMm;
