@@ -51,9 +51,9 @@ struct MotionEstimate {
 //   - the background's, when the object's samples move with it (they then share one fit) or when
 //     the object has too little unchanged texture but what it has moves with the background;
 //   - when the object's unchanged texture and its background disagree, the object moved against
-//     its background unless its samples, seen with the background's motion, only rose along the
-//     object's normal: that is what a clear layer of ice that kept the texture looks like, and the
-//     background is taken.
+//     its background unless its samples, seen with the background's motion, stayed or rose along
+//     the object's normal (aside by less than they rose): that is what a clear layer of ice that
+//     kept the texture looks like, and the background is taken.
 // Not observable (refused with the reason): too little unchanged texture on the object and no
 // background it moves with.
 MotionEstimate estimateMotion(const std::vector<TextureTrack>& tracks, const PlaneFrame& plane,
