@@ -37,6 +37,11 @@ std::filesystem::path prepared(const std::filesystem::path& dir) {
 
 const std::vector<std::string> kPictureNames{"left", "disparity", "thickness"};
 
+// How long one stage of the chain may take before READY=1, as long as the unit's WatchdogSec
+// gives it once the loop runs. A stored 3840x1080 baseline is measured in a few seconds here,
+// tens on a slower box: more than systemd's start timeout (90 s) may allow for all of them.
+constexpr std::chrono::microseconds kStartStageAllowance = std::chrono::seconds(120);
+
 // A result document as this daemon writes it: the fields every view reads must be there with
 // their types. Anything else (a hand-edited or truncated-and-repaired file) counts as absent.
 bool isResultDocument(const nlohmann::json& doc) {
@@ -109,6 +114,7 @@ Daemon::Daemon(config::Config config, DaemonOptions options, Clock& clock, Daemo
         logger()->error("no HTTP token ({}): every POST will be refused", token_.problem);
     }
     if (parts_.chain) {
+        attachChain();
         loadStoredBaseline();
     }
     if (parts_.outputs) {
@@ -154,6 +160,7 @@ void Daemon::completeParts() {
     bool arrived = false;
     if (!parts_.chain && parts_.makeChain && tryToMake(parts_.makeChain, parts_.chain, chainMissing_, mutex_)) {
         logger()->info("calibration {} loaded", config_.calibration.file);
+        attachChain();
         loadStoredBaseline();
         arrived = true;
     }
@@ -263,9 +270,19 @@ void Daemon::waitUntil(TimePoint deadline) {
 }
 
 void Daemon::progress() {
-    if (notifier_ && notifier_->watchdogInterval()) {
+    if (!notifier_) return;
+    if (!ready_) {
+        // Before READY=1 systemd's start timeout runs, not the watchdog: each stage asks for
+        // another allowance. Not the notifier's watchdog interval: in front of the Modbus
+        // heartbeat that is 2 s, shorter than a stage.
+        notifier_->notify("EXTEND_TIMEOUT_USEC=" + std::to_string(kStartStageAllowance.count()));
+    } else if (notifier_->watchdogInterval()) {
         notifier_->notify("WATCHDOG=1");
     }
+}
+
+void Daemon::attachChain() {
+    parts_.chain->onProgress([this] { progress(); });
 }
 
 void Daemon::run() {
@@ -280,6 +297,7 @@ void Daemon::loop(std::optional<TimePoint> end) {
     if (notifier_) {
         std::lock_guard lock(mutex_);
         notifier_->notify("READY=1" + (readyStatus_.empty() ? std::string() : "\nSTATUS=" + readyStatus_));
+        ready_ = true;
     }
     if (!scheduled_) {
         // The first cycle runs at once; the schedule then persists across run/runUntil calls.

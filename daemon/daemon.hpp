@@ -123,7 +123,12 @@ private:
     std::string missingParts() const;
     // Applies the alarm level and writes everything out; returns the result as published.
     CycleResult publish(CycleResult result, const ChainPictures& pictures, bool toHistory);
+    // The loop (or a cycle, or the chain between its stages) is making progress: WATCHDOG=1 once
+    // the loop runs; before (a stored baseline measured at start) the start timeout is extended
+    // by a stage's allowance instead, so that a slow box is not killed while it starts.
     void progress();
+    // The chain reports its stages to progress().
+    void attachChain();
     bool stopping() const { return stop_.load(); }
 
     config::Config config_;  // guarded by mutex_ for the views; written on the loop thread only
@@ -142,6 +147,7 @@ private:
     Requests requests_;
     std::atomic<bool> stop_{false};
     std::string readyStatus_;
+    bool ready_ = false;  // READY=1 sent; loop thread only
     std::optional<nlohmann::json> latest_;
     CameraState camera_ = CameraState::Offline;
     std::string cameraDetail_;

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <functional>
 #include <map>
 #include <string>
 
@@ -51,6 +52,9 @@ public:
     // Measures one pair against the baseline. Bad images are a Refused result, never an exception.
     // By value: a caller that moves the pair in lets the chain free it once it is rectified.
     virtual ChainResult estimate(StereoPair current) = 0;
+    // Called between the stages of setBaseline and estimate, on the caller's thread, when the
+    // chain has stages: the service loop's watchdog learns that a long chain is still working.
+    virtual void onProgress(std::function<void()> progress) { (void)progress; }
 };
 
 }  // namespace icewatch::daemon

@@ -1,6 +1,7 @@
 // sd_notify for Type=notify and WatchdogSec=. WATCHDOG=1 is only sent by the service loop when it
-// has come round (or a cycle has finished a frame), so a hung cycle or a dead loop stops the
-// pings and systemd restarts the service.
+// has come round (or a cycle has finished a frame, or the chain a stage), so a hung cycle or a dead
+// loop stops the pings and systemd restarts the service. Before READY=1 the chain's stages extend
+// the start timeout instead (EXTEND_TIMEOUT_USEC).
 #include "daemon/notifier.hpp"
 
 #include <systemd/sd-daemon.h>

@@ -24,19 +24,19 @@ ChainResult failure(ChainResult::Status status, std::string reason) {
 
 VolumeMeasurementChain::VolumeMeasurementChain(const std::filesystem::path& calibrationFile,
                                                const volume::Parameters& parameters,
-                                               const pictures::PictureScale& pictures)
+                                               const pictures::PictureScale& pictures, const stereo::Parameters& stereo)
     : VolumeMeasurementChain(calib::loadCalibration(calibrationFile), sha256OfFile(calibrationFile).value_or(""),
-                             parameters, pictures) {}
+                             parameters, pictures, stereo) {}
 
 VolumeMeasurementChain::VolumeMeasurementChain(const calib::StereoCalibration& calibration,
                                                std::string calibrationSha256, const volume::Parameters& parameters,
-                                               const pictures::PictureScale& pictures)
+                                               const pictures::PictureScale& pictures, const stereo::Parameters& stereo)
     : calibrationSha256_(std::move(calibrationSha256)),
       minValidPercent_(parameters.minValidPercent),
       coverageFactor_(parameters.coverageFactor),
       maxDisparity_(parameters.maxDisparity),
       pictureScale_(pictures),
-      chain_(calibration, parameters, [] { return std::chrono::steady_clock::now(); }) {}
+      chain_(calibration, parameters, [] { return std::chrono::steady_clock::now(); }, stereo) {}
 
 ChainResult VolumeMeasurementChain::setBaseline(StereoPair clean) {
     try {

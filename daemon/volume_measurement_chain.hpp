@@ -15,15 +15,18 @@ class VolumeMeasurementChain : public MeasurementChain {
 public:
     // Throws Error when the calibration file is missing or invalid, or the parameters are unusable.
     // `pictures`: the scale of the pictures of each measurement (ok or refused).
+    // `stereo`: the matcher's parameters (the configuration's "stereo" section).
     VolumeMeasurementChain(const std::filesystem::path& calibrationFile, const volume::Parameters& parameters,
-                           const pictures::PictureScale& pictures = {});
+                           const pictures::PictureScale& pictures = {}, const stereo::Parameters& stereo = {});
     VolumeMeasurementChain(const calib::StereoCalibration& calibration, std::string calibrationSha256,
-                           const volume::Parameters& parameters, const pictures::PictureScale& pictures = {});
+                           const volume::Parameters& parameters, const pictures::PictureScale& pictures = {},
+                           const stereo::Parameters& stereo = {});
 
     std::string calibrationSha256() const override { return calibrationSha256_; }
     ChainResult setBaseline(StereoPair clean) override;
     bool hasBaseline() const override { return baseline_.has_value(); }
     ChainResult estimate(StereoPair current) override;
+    void onProgress(std::function<void()> progress) override { chain_.onStageDone(std::move(progress)); }
 
 private:
     std::string calibrationSha256_;

@@ -23,7 +23,7 @@ std::unique_ptr<MeasurementChain> makeMeasurementChain(const config::Config& con
                                   "--out " + file + " (README, Calibration), then systemctl reload icewatchd");
     }
     try {
-        return std::make_unique<VolumeMeasurementChain>(file, config.volume, config.pictures);
+        return std::make_unique<VolumeMeasurementChain>(file, config.volume, config.pictures, config.stereo);
     } catch (const Error& e) {
         throw Error(e.code(), std::string("unusable calibration: ") + e.what());
     }

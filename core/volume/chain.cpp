@@ -62,11 +62,15 @@ constexpr const char* kNoOutlineHint =
 // Times consecutive stages with the clock the chain was given.
 class StageTimer {
 public:
-    StageTimer(const VolumeChain::Clock& clock, Timings& timings) : clock_(clock), timings_(timings) { start_ = now(); }
+    StageTimer(const VolumeChain::Clock& clock, Timings& timings, const VolumeChain::StageDone& done)
+        : clock_(clock), timings_(timings), done_(done) {
+        start_ = now();
+    }
     void lap(const std::string& stage) {
         const auto t = now();
         timings_.emplace_back(stage, std::chrono::duration<double, std::milli>(t - start_).count());
         start_ = t;
+        if (done_) done_();
     }
 
 private:
@@ -75,6 +79,7 @@ private:
     }
     const VolumeChain::Clock& clock_;
     Timings& timings_;
+    const VolumeChain::StageDone& done_;
     std::chrono::steady_clock::time_point start_;
 };
 
@@ -177,6 +182,7 @@ struct VolumeChain::Impl {
     calib::StereoCalibration calibration;
     Parameters parameters;
     Clock clock;
+    StageDone stageDone;
     calib::Rectifier rectifier;
     stereo::Matcher matcher;
     cv::Mat polygonRoi;  // rectified; empty = segment
@@ -220,7 +226,7 @@ VolumeChain::VolumeChain(const calib::StereoCalibration& calibration, const Para
     calib::StereoCalibration c = calibration;
     calib::validateCalibration(c, "calibration");
     if (c.Q.empty() || c.P1.empty()) calib::deriveRectification(c);
-    impl_ = std::make_unique<Impl>(Impl{c, parameters, std::move(clock), calib::Rectifier(c),
+    impl_ = std::make_unique<Impl>(Impl{c, parameters, std::move(clock), {}, calib::Rectifier(c),
                                         stereo::Matcher(parameters.stereoMethod, matcherParameters(stereoParameters)), {},
                                         cv::Matx34d(c.P1), c.rectifiedFocalPx(), c.baselineMm()});
     if (!parameters.roiPolygon.empty()) {
@@ -234,6 +240,8 @@ VolumeChain::VolumeChain(VolumeChain&&) noexcept = default;
 VolumeChain& VolumeChain::operator=(VolumeChain&&) noexcept = default;
 
 const Parameters& VolumeChain::parameters() const { return impl_->parameters; }
+
+void VolumeChain::onStageDone(StageDone hook) { impl_->stageDone = std::move(hook); }
 
 Surface VolumeChain::measureSurface(cv::Mat sideBySideFrame) {
     return impl_->measureFrame(std::move(sideBySideFrame), nullptr);
@@ -255,7 +263,7 @@ cv::Mat VolumeChain::points(const Surface& surface) const {
 
 Surface VolumeChain::Impl::measureFrame(cv::Mat sideBySideFrame, const Surface* baseline) {
     Timings split;
-    StageTimer timer(clock, split);
+    StageTimer timer(clock, split, stageDone);
     StereoPair raw = sideBySideViews(sideBySideFrame);
     sideBySideFrame.release();  // the views hold the frame now, until the eyes are rectified
     timer.lap("split");
@@ -266,7 +274,7 @@ Surface VolumeChain::Impl::measureFrame(cv::Mat sideBySideFrame, const Surface* 
 
 Surface VolumeChain::Impl::measure(StereoPair raw, const Surface* baseline) {
     Surface s;
-    StageTimer timer(clock, s.timingsMs);
+    StageTimer timer(clock, s.timingsMs, stageDone);
     const cv::Size size = rectifier.imageSize();
     MatchRegion region = baseline && parameters.matchRegion ? baseline->followUp : MatchRegion{};
     // A baseline may be matched anywhere: the whole rectification maps (built again when an
@@ -452,7 +460,7 @@ MatchRegion VolumeChain::Impl::followUpRegion(const Surface& s) const {
 VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& current) {
     const Parameters& p = impl_->parameters;
     VolumeResult result;
-    StageTimer timer(impl_->clock, result.timingsMs);
+    StageTimer timer(impl_->clock, result.timingsMs, impl_->stageDone);
     if (baseline.disparity.empty() || baseline.disparity.size() != current.disparity.size() ||
         baseline.leftGrey.size() != current.leftGrey.size()) {
         throw InvalidInput("volume: baseline and current surfaces must come from the same calibration");

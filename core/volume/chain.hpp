@@ -138,6 +138,12 @@ public:
 
     const Parameters& parameters() const;
 
+    // Called on the caller's thread after each stage of measureSurface and estimate (each entry
+    // of their timingsMs). The daemon shows the service manager from it that the chain is making
+    // progress: a long chain on a slow box is not taken for a hung one, a stage that hangs still is.
+    using StageDone = std::function<void()>;
+    void onStageDone(StageDone hook);
+
 private:
     struct Impl;
     std::unique_ptr<Impl> impl_;

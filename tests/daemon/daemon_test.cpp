@@ -1,11 +1,13 @@
 #include "daemon/daemon.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include <gtest/gtest.h>
 
 #include "core/common/error.hpp"
 #include "daemon/baseline_store.hpp"
+#include "daemon/notifier.hpp"
 #include "tests/daemon/rig.hpp"
 
 namespace icewatch::daemon::test {
@@ -47,6 +49,47 @@ TEST(Daemon, LatestJsonCarriesEveryField) {
     for (const char* picture : {"left", "disparity", "thickness"}) {
         EXPECT_TRUE(std::filesystem::exists(rig.dir / "images" / (std::string(picture) + ".png"))) << picture;
     }
+}
+
+// What the service manager was told, with its watchdog on (WatchdogSec=120).
+class RecordingNotifier : public Notifier {
+public:
+    void notify(const std::string& message) override { messages.push_back(message); }
+    std::optional<std::chrono::microseconds> watchdogInterval() const override { return std::chrono::seconds(120); }
+    long count(const std::string& message) const { return std::count(messages.begin(), messages.end(), message); }
+    std::vector<std::string> messages;
+};
+
+// A long chain shows that it is working: the stored baseline measured at start extends the start
+// timeout stage by stage, and once the loop runs each of the chain's stages pings the watchdog, so
+// a slow box is not killed in the middle of a measurement (a stage that hangs still stops the pings).
+TEST(Daemon, TheChainsStagesKeepTheServiceManagerInformed) {
+    const auto dir = icewatch::test::freshTempDir();
+    const config::Config config = testConfig(dir);
+    prepareStateDir(dir);
+    std::string error;
+    ASSERT_TRUE(saveBaseline(dir, {testEpoch(), "c0ffee", texturedPair(), "test"}, error)) << error;
+    auto chain = std::make_unique<ScriptedChain>();
+    chain->baselineSet = false;
+    chain->stages = 40;
+    const ScriptedChain* scripted = chain.get();
+    auto gpioLog = std::make_shared<gpio::TransitionLog>();
+    ManualClock clock(testEpoch());
+    RecordingNotifier notifier;
+    Daemon daemon(config, DaemonOptions{{}, "cafe", "test-version"}, clock,
+                  DaemonParts{std::make_unique<ScriptedSource>(), std::move(chain),
+                              gpio::openScadaOutputs(config.gpio, gpioLog)},
+                  &notifier);
+    EXPECT_TRUE(scripted->baselineSet) << "the stored baseline is measured at start";
+    EXPECT_EQ(notifier.messages, std::vector<std::string>(40, "EXTEND_TIMEOUT_USEC=120000000"));
+
+    notifier.messages.clear();
+    daemon.runUntil(testEpoch() + std::chrono::seconds(1));
+    ASSERT_FALSE(notifier.messages.empty());
+    EXPECT_EQ(notifier.messages.front().rfind("READY=1", 0), 0u) << notifier.messages.front();
+    EXPECT_EQ(scripted->calls, 1);
+    EXPECT_GE(notifier.count("WATCHDOG=1"), 40) << "each of the chain's stages";
+    EXPECT_EQ(notifier.count("EXTEND_TIMEOUT_USEC=120000000"), 0) << "running: the watchdog's turn";
 }
 
 TEST(Daemon, StaleOnceOlderThanTwoIntervals) {

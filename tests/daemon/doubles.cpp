@@ -42,6 +42,7 @@ CameraState ScriptedSource::health(std::string& detail) {
 }
 
 ChainResult ScriptedChain::setBaseline(StereoPair clean) {
+    for (int i = 0; i < stages && progress; ++i) progress();
     if (clean.left.empty()) {
         return refusedResult("empty baseline");
     }
@@ -53,6 +54,7 @@ ChainResult ScriptedChain::setBaseline(StereoPair clean) {
 
 ChainResult ScriptedChain::estimate(StereoPair current) {
     ++calls;
+    for (int i = 0; i < stages && progress; ++i) progress();
     if (!baselineSet) {
         ChainResult r;
         r.status = ChainResult::Status::Failed;

@@ -44,8 +44,11 @@ public:
     ChainResult setBaseline(StereoPair clean) override;
     bool hasBaseline() const override { return baselineSet; }
     ChainResult estimate(StereoPair current) override;
+    void onProgress(std::function<void()> hook) override { progress = std::move(hook); }
 
     std::string calibration = "c0ffee";
+    int stages = 0;  // setBaseline and estimate report this many stages done before they answer
+    std::function<void()> progress;
     bool baselineSet = true;
     int calls = 0;
     std::function<ChainResult(int call, const StereoPair&)> script;  // default: 1000 mm³ ± 50

@@ -5,10 +5,12 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "core/calib/stereo_calibration.hpp"
 #include "core/synth/scene.hpp"
 #include "daemon/baseline_store.hpp"
 #include "daemon/v4l2_frame_source.hpp"
 #include "daemon/volume_measurement_chain.hpp"
+#include "daemon/wiring.hpp"
 #include "drivers/v4l2/recording.hpp"
 #include "tests/daemon/rig.hpp"
 
@@ -16,6 +18,16 @@ namespace icewatch::daemon::test {
 namespace {
 
 using gpio::LineTransition;
+
+// A rendered ice block at a sixth of the camera's resolution, one sample a pixel: quick to measure.
+synth::SyntheticScene smallIceBlock() {
+    synth::SceneSpec spec;
+    spec.kind = synth::SceneKind::Block;
+    spec.iceVolumeMm3 = 417391;
+    spec.frameSize = {640, 240};
+    spec.supersampling = 1;
+    return synth::renderScene(spec);
+}
 
 TEST(EndToEnd, RecordingThroughTheFakeCameraWithAnUnplugMidBurst) {
     const auto dir = icewatch::test::freshTempDir();
@@ -113,12 +125,7 @@ TEST(EndToEnd, RecordingThroughTheFakeCameraWithAnUnplugMidBurst) {
 }
 
 TEST(EndToEnd, ARefusedMeasurementKeepsItsPicturesWithTheReason) {
-    synth::SceneSpec spec;
-    spec.kind = synth::SceneKind::Block;
-    spec.iceVolumeMm3 = 417391;
-    spec.frameSize = {640, 240};
-    spec.supersampling = 1;
-    const synth::SyntheticScene scene = synth::renderScene(spec);
+    const synth::SyntheticScene scene = smallIceBlock();
     volume::Parameters parameters;
     parameters.stereoMethod = stereo::Method::Sgbm;
     for (const auto& p : scene.roi) {
@@ -140,6 +147,31 @@ TEST(EndToEnd, ARefusedMeasurementKeepsItsPicturesWithTheReason) {
     const ChainResult measured = chain.estimate(splitSideBySide(scene.after));
     ASSERT_EQ(measured.status, ChainResult::Status::Ok) << measured.reason;
     EXPECT_GT(measured.pictures.thickness.cols, 320) << "the eye and its colour bar";
+}
+
+// The daemon's chain matches with the configuration's "stereo" section, as icewatch volume does:
+// a matcher setting changed there changes what the daemon measures.
+TEST(EndToEnd, TheDaemonsChainMatchesAsTheConfigurationSays) {
+    const auto dir = icewatch::test::freshTempDir();
+    const synth::SyntheticScene scene = smallIceBlock();
+    config::Config config = testConfig(dir / "state");
+    config.calibration.file = (dir / "calibration.yaml").string();
+    calib::saveCalibration(config.calibration.file, scene.calibration);
+    config.volume.stereoMethod = stereo::Method::Sgbm;
+    for (const auto& p : scene.roi) {
+        config.volume.roiPolygon.push_back(p.x);
+        config.volume.roiPolygon.push_back(p.y);
+    }
+    auto measured = [&](const config::Config& c) {
+        const std::unique_ptr<MeasurementChain> chain = makeMeasurementChain(c);
+        EXPECT_EQ(chain->setBaseline(splitSideBySide(scene.before)).status, ChainResult::Status::Ok);
+        const ChainResult r = chain->estimate(splitSideBySide(scene.after));
+        EXPECT_EQ(r.status, ChainResult::Status::Ok) << r.reason;
+        return r.volumeMm3;
+    };
+    const double asShipped = measured(config);
+    config.stereo.sgbmBlockSize = 11;
+    EXPECT_NE(measured(config), asShipped) << "the matcher's block size reached the daemon's chain";
 }
 
 }  // namespace

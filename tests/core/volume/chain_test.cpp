@@ -77,6 +77,29 @@ TEST(VolumeChain, BaselineModelKeptWithTheSurfaceChangesNothing) {
     EXPECT_EQ(kept.pointsUsed, workedOut.pointsUsed);
 }
 
+// The daemon shows the service manager its progress from inside the chain: once after every
+// stage the timings list, a refusal's stages included.
+TEST(VolumeChain, SaysWhenEachStageIsDone) {
+    const synth::SyntheticScene scene = smallBlock(427174, 2);
+    VolumeChain chain(scene.calibration, sgbmParameters(scene.roi));
+    int done = 0;
+    chain.onStageDone([&done] { ++done; });
+    const Surface baseline = chain.measureSurface(scene.before);
+    EXPECT_EQ(done, static_cast<int>(baseline.timingsMs.size()));
+    done = 0;
+    const Surface current = chain.measureSurface(scene.after, baseline);
+    EXPECT_EQ(done, static_cast<int>(current.timingsMs.size()));
+    done = 0;
+    const VolumeResult r = chain.estimate(baseline, current);
+    ASSERT_TRUE(r.ok) << r.reason;
+    EXPECT_EQ(done, static_cast<int>(r.timingsMs.size()));
+    EXPECT_GT(done, 5);
+    done = 0;
+    const VolumeResult dark = chain.estimate(baseline, chain.measureSurface(scene.after * 0.05, baseline));
+    ASSERT_FALSE(dark.ok);
+    EXPECT_GT(done, 0);
+}
+
 TEST(VolumeChain, GateRefusesADarkPair) {
     const synth::SyntheticScene scene = smallBlock(427174, 3);
     VolumeChain chain(scene.calibration, sgbmParameters(scene.roi));
