@@ -530,6 +530,7 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     evidence.minPairs = p.minEvidenceSamples;
     evidence.minSupportSpanPercent = p.minSupportSpanPercent;
     evidence.backgroundBandMm = p.backgroundBandMm;
+    evidence.lightRatio = lightRatio;
     const double overlap = (2.0 * p.trackRadiusPx + 1) / p.trackStepPx;
     evidence.fit.correlationFactor = std::max(1.0, overlap * overlap);
     const MotionEstimate motion = estimateMotion(tracks, plane, evidence);
@@ -544,7 +545,8 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     timer.lap("register");
     if (!motion.ok) {
         if (!current.regionHint.empty()) return refused(result, current.regionHint);
-        const std::string light = objectLightNote(tracks, lightRatio, trackOptions.maxBrightnessChange);
+        const std::string light =
+            motion.objectLightShifted ? "" : objectLightNote(tracks, lightRatio, trackOptions.maxBrightnessChange);
         return refused(result, light.empty() ? motion.reason : motion.reason + "; " + light);
     }
     const RigidTransform& transform = motion.transform;
@@ -598,7 +600,7 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     // --- thickness on the plane's grid, where the ice may be ---
     const ThicknessMap map = thicknessMap(clouds, baseline.roi, model->ringMask, possibleIce, plane,
                                           impl_->projection.get_minor<3, 3>(0, 0), p, hidden,
-                                          seenThroughPixels(baseline.roi, tracks));
+                                          seenThroughPixels(baseline.roi, tracks, motion.objectLightShifted));
     if (map.insideNodes == 0) return refused(result, "the region covers no part of the measured surface");
     result.filledPercent = 100.0 * map.filledNodes / std::max(1, map.iceNodes);
     timer.lap("grid");

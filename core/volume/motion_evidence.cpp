@@ -130,6 +130,18 @@ std::vector<cv::Vec6d> jackknife(const Evidence& used, const RigidTransform& fit
     return deltas;
 }
 
+// How far the median brightness ratio of the evidence's samples departs from the light's (0 when
+// the light is not known or there is no evidence): ratio / light - 1.
+double lightShift(const Evidence& e, const std::vector<TextureTrack>& tracks, std::optional<double> lightRatio) {
+    if (!lightRatio || !(*lightRatio > 0) || e.track.empty()) return 0.0;
+    std::vector<double> ratios;
+    ratios.reserve(e.track.size());
+    for (std::size_t i : e.track) ratios.push_back(tracks[i].brightnessRatio);
+    const auto mid = ratios.begin() + static_cast<std::ptrdiff_t>(ratios.size() / 2);
+    std::nth_element(ratios.begin(), mid, ratios.end());
+    return *mid / *lightRatio - 1.0;
+}
+
 }  // namespace
 
 MotionEstimate estimateMotion(const std::vector<TextureTrack>& tracks, const PlaneFrame& plane,
@@ -153,7 +165,22 @@ MotionEstimate estimateMotion(const std::vector<TextureTrack>& tracks, const Pla
         return clean;
     };
     const double objectSpanPercent = onObject.ok ? objectSpan(tracks, cleanUnder(onObject), plane) : 0.0;
-    const bool objectSuffices = onObject.ok && objectSpanPercent >= o.minSupportSpanPercent;
+    const double objectLightShift = lightShift(object, tracks, o.lightRatio);
+    const bool objectKeptItsLight = std::abs(objectLightShift) <= o.maxEvidenceLightShift;
+    const bool objectSuffices = onObject.ok && objectSpanPercent >= o.minSupportSpanPercent && objectKeptItsLight;
+    // Why the object's own texture does not fix its motion when it changed against the light.
+    auto lightReason = [&] {
+        std::ostringstream reason;
+        reason.precision(3);
+        reason << "the object's unchanged texture (" << object.pairs.size() << " samples) "
+               << (objectLightShift > 0 ? "brightened" : "darkened") << " by " << 100.0 * std::abs(objectLightShift)
+               << " % against the light on its background (at most " << 100.0 * o.maxEvidenceLightShift
+               << " %): it may lie under a thin layer over all of the object, or the light changed on the object "
+                  "alone, and does not fix the object's motion";
+        return reason.str();
+    };
+    out.objectLightShift = objectLightShift;
+    out.objectLightShifted = !objectKeptItsLight;
 
     RigidMotion chosen;
     Evidence used;
@@ -179,14 +206,19 @@ MotionEstimate estimateMotion(const std::vector<TextureTrack>& tracks, const Pla
             used = object;
             out.source = "object";
         } else {
-            out.reason = "the object's unchanged texture moved otherwise than its background and spans too little of "
-                         "the object to fix its motion alone";
+            out.reason = !objectKeptItsLight ? lightReason() + ", and it moved otherwise than its background"
+                                         : "the object's unchanged texture moved otherwise than its background and "
+                                           "spans too little of the object to fix its motion alone";
             return out;
         }
     } else if (objectSuffices) {
         chosen = onObject;
         used = object;
         out.source = "object";
+    } else if (!objectKeptItsLight) {
+        out.reason = "the motion between the captures is not observable: " + lightReason() +
+                     "; no background it rests on was found";
+        return out;
     } else {
         std::ostringstream reason;
         reason.precision(3);

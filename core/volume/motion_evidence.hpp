@@ -1,5 +1,6 @@
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,12 +21,26 @@ struct MotionEvidenceOptions {
     // The object's samples agree with a motion when at least this share of them are its inliers.
     double agreeShare = 0.7;
     int jackknifeGroups = 6;
+    // The scene's change of light (the background's brightness ratio, background_light.hpp), when
+    // known. Light scales the radiance of all the object's clean texture alike: when the median
+    // brightness ratio of its unchanged samples departs from the light's by more than
+    // maxEvidenceLightShift, the samples that kept their look are the faintest-changed part of a
+    // thin layer over the whole object (or the light fell on the object alone), and their motion
+    // is not the object's. Half of a single sample's allowance (TextureTrackOptions::
+    // maxBrightnessChange, 4 %): a median is far less noisy than a sample.
+    std::optional<double> lightRatio;
+    double maxEvidenceLightShift = 0.02;
 };
 
 // How the object moved between the captures, and from what evidence.
 struct MotionEstimate {
     bool ok = false;
     std::string reason;          // why the motion is not observable
+    // The median brightness ratio of the object's unchanged samples over the light's, less 1 (0
+    // when the light is not known), and whether it is beyond maxEvidenceLightShift: then that
+    // texture is not the object's motion (and a refusal says so).
+    double objectLightShift = 0;
+    bool objectLightShifted = false;
     std::string source;          // "object", "background", "object+background"
     RigidTransform transform;    // current -> baseline
     cv::Matx66d covariance = cv::Matx66d::zeros();
@@ -55,7 +70,8 @@ struct MotionEstimate {
 //     the object's normal (aside by less than they rose): that is what a clear layer of ice that
 //     kept the texture looks like, and the background is taken.
 // Not observable (refused with the reason): too little unchanged texture on the object and no
-// background it moves with.
+// background it moves with. The object's own texture does not suffice either when, as a whole, it
+// brightened or darkened against the scene's light (MotionEvidenceOptions::lightRatio).
 MotionEstimate estimateMotion(const std::vector<TextureTrack>& tracks, const PlaneFrame& plane,
                               const MotionEvidenceOptions& options = {});
 

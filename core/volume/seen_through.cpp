@@ -12,7 +12,7 @@
 
 namespace icewatch::volume {
 
-cv::Mat seenThroughPixels(const cv::Mat& object, const std::vector<TextureTrack>& tracks) {
+cv::Mat seenThroughPixels(const cv::Mat& object, const std::vector<TextureTrack>& tracks, bool unchangedToo) {
     CV_Assert(object.type() == CV_8UC1);
     cv::Mat seen(object.size(), CV_8U, cv::Scalar(0));
     // Over the object's box: each sample on the object says 1 (seen through) or 0, and every
@@ -22,7 +22,8 @@ cv::Mat seenThroughPixels(const cv::Mat& object, const std::vector<TextureTrack>
     bool any = false;
     for (const TextureTrack& t : tracks) {
         if (!t.onObject || !box.contains(t.pixel) || !object.at<std::uint8_t>(t.pixel)) continue;
-        const bool through = t.state == TextureTrack::State::Changed;
+        const bool through = t.state == TextureTrack::State::Changed ||
+                             (unchangedToo && t.state == TextureTrack::State::Unchanged);
         word.at<double>(t.pixel - box.tl()) = through ? 1.0 : 0.0;
         any = any || through;
     }

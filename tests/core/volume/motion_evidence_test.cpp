@@ -72,5 +72,34 @@ TEST(MotionEvidence, AnObjectPushedAlongItsTableMovedAgainstIt) {
     EXPECT_LT(cv::norm(motion.transform.apply(pushed) - scene.plane.origin), 0.05);
 }
 
+// A blade against the sky (its background tracks nothing) moved 2 mm along its chord, every
+// sample found again with its look: the light on the sky did not change, the texture brightened
+// by `brightness` - 1.
+MotionEstimate movedAgainstTheSky(double brightness) {
+    BladeOnATable scene;
+    std::erase_if(scene.tracks, [](const TextureTrack& t) { return !t.onObject; });
+    for (TextureTrack& t : scene.tracks) {
+        t.currentMm += 2.0 * scene.plane.axisU;
+        t.brightnessRatio = brightness;
+    }
+    scene.addNoise();
+    MotionEvidenceOptions options;
+    options.lightRatio = 1.0;
+    return estimateMotion(scene.tracks, scene.plane, options);
+}
+
+// Light scales all the clean texture alike. A thin layer over all of the blade that brightened the
+// texture it kept by 3 % (the rest changed more) moves with the layer's surface, not the blade's:
+// that texture does not fix the motion, and with nothing else to go by the chain must refuse.
+TEST(MotionEvidence, TextureThatKeptItsLookButBrightenedAsAWholeDoesNotFixTheMotion) {
+    const MotionEstimate layered = movedAgainstTheSky(1.03);
+    EXPECT_FALSE(layered.ok);
+    EXPECT_TRUE(layered.objectLightShifted);
+    EXPECT_NE(layered.reason.find("brightened by 3 %"), std::string::npos) << layered.reason;
+    const MotionEstimate clean = movedAgainstTheSky(1.005);
+    ASSERT_TRUE(clean.ok) << clean.reason;
+    EXPECT_EQ(clean.source, "object");
+}
+
 }  // namespace
 }  // namespace icewatch::volume

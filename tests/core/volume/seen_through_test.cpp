@@ -39,6 +39,14 @@ TEST(SeenThrough, EveryPixelTakesTheWordOfItsNearestSample) {
                                                  sample(60, 45, TextureTrack::State::Unchanged),
                                                  sample(40, 15, TextureTrack::State::Untracked)};
     EXPECT_EQ(cv::countNonZero(seenThroughPixels(object, unchanged)), 0);
+    // Unless that texture, as a whole, brightened against the light: a thin layer over all of the
+    // object changed it too, only less. What was never found again still says nothing.
+    const cv::Mat layered = seenThroughPixels(object, unchanged, true);
+    EXPECT_EQ(layered.at<std::uint8_t>(45, 15), 255);
+    EXPECT_EQ(layered.at<std::uint8_t>(45, 65), 255);
+    EXPECT_EQ(layered.at<std::uint8_t>(45, 75), 0) << "outside the object";
+    const std::vector<TextureTrack> hidden = {sample(20, 45, TextureTrack::State::Untracked)};
+    EXPECT_EQ(cv::countNonZero(seenThroughPixels(object, hidden, true)), 0);
 }
 
 // A grid of 2 mm cells, 1 mm read everywhere, a third of it seen through.
