@@ -53,6 +53,6 @@ SeenThroughIce seenThroughIce(const ThicknessMap& map) {
 
 double seenThroughShareMm3(const SeenThroughIce& seen) { return 0.5 * (kSeenThroughFactor - 1.0) * seen.readMm3; }
 
-double seenThroughSigmaMm3(const SeenThroughIce& seen) { return seenThroughShareMm3(seen) / std::sqrt(3.0); }
+double seenThroughSigmaMm3(const SeenThroughIce& seen) { return seenThroughShareMm3(seen); }
 
 }  // namespace icewatch::volume
