@@ -130,16 +130,26 @@ std::vector<cv::Vec6d> jackknife(const Evidence& used, const RigidTransform& fit
     return deltas;
 }
 
-// How far the median brightness ratio of the evidence's samples departs from the light's (0 when
-// the light is not known or there is no evidence): ratio / light - 1.
-double lightShift(const Evidence& e, const std::vector<TextureTrack>& tracks, std::optional<double> lightRatio) {
-    if (!lightRatio || !(*lightRatio > 0) || e.track.empty()) return 0.0;
+// How the brightness of the evidence's samples changed: how far their median ratio departs from
+// the light's (0 when the light is not known), and how widely the middle half of them spread about
+// it (their interquartile range over the median; 0 without evidence).
+struct EvidenceLight {
+    double shift = 0;
+    double spread = 0;
+};
+EvidenceLight evidenceLight(const Evidence& e, const std::vector<TextureTrack>& tracks,
+                            std::optional<double> lightRatio) {
+    EvidenceLight light;
+    if (e.track.empty()) return light;
     std::vector<double> ratios;
     ratios.reserve(e.track.size());
     for (std::size_t i : e.track) ratios.push_back(tracks[i].brightnessRatio);
-    const auto mid = ratios.begin() + static_cast<std::ptrdiff_t>(ratios.size() / 2);
-    std::nth_element(ratios.begin(), mid, ratios.end());
-    return *mid / *lightRatio - 1.0;
+    std::sort(ratios.begin(), ratios.end());
+    const double median = ratios[ratios.size() / 2];
+    if (!(median > 0)) return light;
+    if (lightRatio && *lightRatio > 0) light.shift = median / *lightRatio - 1.0;
+    light.spread = (ratios[3 * ratios.size() / 4] - ratios[ratios.size() / 4]) / median;
+    return light;
 }
 
 }  // namespace
@@ -165,21 +175,28 @@ MotionEstimate estimateMotion(const std::vector<TextureTrack>& tracks, const Pla
         return clean;
     };
     const double objectSpanPercent = onObject.ok ? objectSpan(tracks, cleanUnder(onObject), plane) : 0.0;
-    const double objectLightShift = lightShift(object, tracks, o.lightRatio);
-    const bool objectKeptItsLight = std::abs(objectLightShift) <= o.maxEvidenceLightShift;
+    const EvidenceLight objectLight = evidenceLight(object, tracks, o.lightRatio);
+    const bool objectKeptItsLight = std::abs(objectLight.shift) <= o.maxEvidenceLightShift &&
+                                    objectLight.spread <= o.maxEvidenceLightSpread;
     const bool objectSuffices = onObject.ok && objectSpanPercent >= o.minSupportSpanPercent && objectKeptItsLight;
     // Why the object's own texture does not fix its motion when it changed against the light.
     auto lightReason = [&] {
         std::ostringstream reason;
         reason.precision(3);
-        reason << "the object's unchanged texture (" << object.pairs.size() << " samples) "
-               << (objectLightShift > 0 ? "brightened" : "darkened") << " by " << 100.0 * std::abs(objectLightShift)
-               << " % against the light on its background (at most " << 100.0 * o.maxEvidenceLightShift
-               << " %): it may lie under a thin layer over all of the object, or the light changed on the object "
+        reason << "the object's unchanged texture (" << object.pairs.size() << " samples) ";
+        if (std::abs(objectLight.shift) > o.maxEvidenceLightShift) {
+            reason << (objectLight.shift > 0 ? "brightened" : "darkened") << " by " << 100.0 * std::abs(objectLight.shift)
+                   << " % against the light on its background (at most " << 100.0 * o.maxEvidenceLightShift << " %)";
+        } else {
+            reason << "changed its brightness unevenly (the middle half of it over " << 100.0 * objectLight.spread
+                   << " %, at most " << 100.0 * o.maxEvidenceLightSpread << " %)";
+        }
+        reason << ": it may lie under a thin layer over all of the object, or the light changed on the object "
                   "alone, and does not fix the object's motion";
         return reason.str();
     };
-    out.objectLightShift = objectLightShift;
+    out.objectLightShift = objectLight.shift;
+    out.objectLightSpread = objectLight.spread;
     out.objectLightShifted = !objectKeptItsLight;
 
     RigidMotion chosen;

@@ -75,12 +75,14 @@ TEST(MotionEvidence, AnObjectPushedAlongItsTableMovedAgainstIt) {
 // A blade against the sky (its background tracks nothing) moved 2 mm along its chord, every
 // sample found again with its look: the light on the sky did not change, the texture brightened
 // by `brightness` - 1.
-MotionEstimate movedAgainstTheSky(double brightness) {
+// With `unevenBy`, every other sample brighter and the rest darker by that much.
+MotionEstimate movedAgainstTheSky(double brightness, double unevenBy = 0.0) {
     BladeOnATable scene;
     std::erase_if(scene.tracks, [](const TextureTrack& t) { return !t.onObject; });
+    int k = 0;
     for (TextureTrack& t : scene.tracks) {
         t.currentMm += 2.0 * scene.plane.axisU;
-        t.brightnessRatio = brightness;
+        t.brightnessRatio = brightness + (k++ % 2 ? unevenBy : -unevenBy);
     }
     scene.addNoise();
     MotionEvidenceOptions options;
@@ -99,6 +101,19 @@ TEST(MotionEvidence, TextureThatKeptItsLookButBrightenedAsAWholeDoesNotFixTheMot
     const MotionEstimate clean = movedAgainstTheSky(1.005);
     ASSERT_TRUE(clean.ok) << clean.reason;
     EXPECT_EQ(clean.source, "object");
+}
+
+// A glaze with wet highlights over all of the blade leaves some texture looking unchanged, some a
+// little brighter, some a little darker: its median stays with the light, its spread does not.
+TEST(MotionEvidence, TextureThatKeptItsLookButChangedUnevenlyDoesNotFixTheMotion) {
+    const MotionEstimate layered = movedAgainstTheSky(1.0, 0.015);
+    EXPECT_FALSE(layered.ok);
+    EXPECT_TRUE(layered.objectLightShifted);
+    EXPECT_NEAR(layered.objectLightSpread, 0.03, 1e-3);
+    EXPECT_NE(layered.reason.find("unevenly"), std::string::npos) << layered.reason;
+    const MotionEstimate shaded = movedAgainstTheSky(1.0, 0.002);
+    ASSERT_TRUE(shaded.ok) << shaded.reason;
+    EXPECT_EQ(shaded.source, "object");
 }
 
 }  // namespace
