@@ -80,7 +80,8 @@ struct MotionEstimate {
 //     kept the texture looks like, and the background is taken.
 // Not observable (refused with the reason): too little unchanged texture on the object and no
 // background it moves with. The object's own texture does not suffice either when, as a whole, it
-// brightened or darkened against the scene's light (MotionEvidenceOptions::lightRatio).
+// brightened or darkened against the scene's light (MotionEvidenceOptions::lightRatio), or changed
+// its brightness unevenly (MotionEvidenceOptions::maxEvidenceLightSpread).
 MotionEstimate estimateMotion(const std::vector<TextureTrack>& tracks, const PlaneFrame& plane,
                               const MotionEvidenceOptions& options = {});
 
