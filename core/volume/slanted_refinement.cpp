@@ -145,11 +145,11 @@ constexpr double kGaveUp = -2.0;
 // first giveUpAfterSteps steps, the disparity's standard error (from the residual and the normal
 // matrix) is over giveUpFactor times the largest a result may have. A blank window (sky, white
 // ice) otherwise runs all its steps, or converges on a gain no light gives, and is refused then.
-bool hopeless(const Eigen::LDLT<Matrix5>& solver, double squares, double total, int step, const SlantedRefinement& p) {
+// inverse00: the disparity's entry of the normal matrix's inverse.
+bool hopeless(double inverse00, double squares, double total, int step, const SlantedRefinement& p) {
     if (step < p.giveUpAfterSteps) return false;
     if (!(total > 5.0)) return true;
-    const Vector5 first = solver.solve(Vector5::Unit(0));
-    const double variance = first[0] * squares / (total - 5.0);
+    const double variance = inverse00 * squares / (total - 5.0);
     const double limit = p.giveUpFactor * p.maxSigmaPx;
     return variance > limit * limit;
 }
@@ -447,11 +447,14 @@ double fitWindow(double start, const WindowSupport& support, const SlantedRefine
     q << start, support.slopeX, support.slopeY, 1.0, 0.0;
     bool converged = false;
     NormalEquations at;
+    double inverse00 = 0;
     for (int iteration = 0; iteration < p.iterations; ++iteration) {
         if (!equationsAt(q, at)) return -1.0;  // the footprint left the image
-        const Eigen::LDLT<Matrix5> solver(at.h);
+        // JᵀWJ is positive definite wherever the window can tell anything: Cholesky, unpivoted.
+        const Eigen::LLT<Matrix5> solver(at.h);
         if (solver.info() != Eigen::Success) return -1.0;
-        if (hopeless(solver, at.squares, support.total, iteration, p)) return kGaveUp;
+        inverse00 = solver.solve(Vector5::Unit(0))[0];
+        if (hopeless(inverse00, at.squares, support.total, iteration, p)) return kGaveUp;
         const Vector5 step = solver.solve(at.g);
         if (!step.allFinite()) return -1.0;
         q += step;
@@ -462,9 +465,10 @@ double fitWindow(double start, const WindowSupport& support, const SlantedRefine
         }
     }
     if (!converged || q[3] < 0.5 || q[3] > 2.0) return -1.0;
-    // The disparity's variance: the residual's, through the inverse of the normal matrix.
-    const Matrix5 covariance = at.h.inverse() * (at.squares / (support.total - 5));
-    if (!(covariance(0, 0) >= 0) || std::sqrt(covariance(0, 0)) > p.maxSigmaPx) return -1.0;
+    // The disparity's variance: the residual's, through the inverse of the normal matrix at the
+    // last step.
+    const double variance = inverse00 * (at.squares / (support.total - 5));
+    if (!(variance >= 0) || std::sqrt(variance) > p.maxSigmaPx) return -1.0;
     return q[0];
 }
 
