@@ -170,6 +170,10 @@ cv::Mat CensusMatcher::compute(const cv::Mat& left, const cv::Mat& right, Dispar
         aggregateScanlines(rightCosts_, mirroredRight, penalties, scratch_, p.rightViewScanlineDirections, nullptr,
                            &mirroredDisparity);
         cv::flip(mirroredDisparity, rightDisparity, 1);
+        if (!keepBuffers_) {
+            rightArms_ = {};
+            mirroredRight.release();
+        }
     }
 
     // The rest of the left view's aggregation over its support regions.
@@ -185,6 +189,12 @@ cv::Mat CensusMatcher::compute(const cv::Mat& left, const cv::Mat& right, Dispar
     } else {
         aggregateScanlines(costs_, viewLeft, penalties, scratch_, 8);
         winnerTakesAll(scratch_, disparity, rightDisparity);
+    }
+    if (!keepBuffers_) {
+        // Only the summed volume is read from here on (the discontinuities and the sub-pixel fit):
+        // the costs go before the refinement's images are made, where the memory peaked.
+        costs_ = {};
+        rightCosts_ = {};
     }
 
     // 6. Outliers: left-right check (occluded or mismatched), region voting, interpolation;
