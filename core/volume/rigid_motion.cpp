@@ -121,14 +121,24 @@ RigidMotion fitRigidMotion(const std::vector<PointPair>& pairs, const RigidMotio
             continue;
         }
     }
+    // A draw stops being counted once it cannot pass the most pairs an earlier draw of its band
+    // found: it could not win (the first draw with the most pairs does), and it is marked -1, below
+    // any count. Most draws are wrong and stop within the first third of the pairs; the winner is
+    // the same as with every draw counted to its end.
     std::vector<int> counts(candidates.size(), 0);
     forEachFixedBand(candidates.size(), [&](int, std::size_t begin, std::size_t end) {
+        int bandBest = -1;
         for (std::size_t k = begin; k < end; ++k) {
             int count = 0;
             for (std::size_t i = 0; i < pairs.size(); ++i) {
                 count += agrees(residual(pairs[i], candidates[k]), drawWeights[i], o) ? 1 : 0;
+                if (!o.countEveryDraw && count + static_cast<int>(pairs.size() - i - 1) <= bandBest) {
+                    count = -1;
+                    break;
+                }
             }
             counts[k] = count;
+            bandBest = std::max(bandBest, count);
         }
     });
     int bestCount = -1;

@@ -34,6 +34,9 @@ struct RigidMotionOptions {
     // Every pair's covariance times this (fitRigidMotion sets it from the data: the trackers'
     // own covariances may be too optimistic, and a fixed χ² bound would then reject good pairs).
     double covarianceScale = 1.0;
+    // The consensus in its plain form: every RANSAC draw counted over every pair, none stopped
+    // once it cannot win (fitRigidMotion). The same fit; tests hold the two together.
+    bool countEveryDraw = false;
 };
 
 struct RigidMotion {
