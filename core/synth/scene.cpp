@@ -161,6 +161,17 @@ void checkSpec(const SceneSpec& spec) {
     if (!(spec.gloss >= 0 && spec.gloss <= kMaxGloss)) {
         throw InvalidInput("synthetic scene: the gloss must be between 0 and 1");
     }
+    // 0 keeps the seed's look; anything else must lie in the override's range.
+    auto overrideIn = [](double value, double lo, double hi) { return value == 0.0 || (value >= lo && value <= hi); };
+    if (!overrideIn(spec.textureContrast, kMinTextureContrast, kMaxTextureContrast)) {
+        throw InvalidInput("synthetic scene: the texture's contrast must be between 0.005 and 0.3 (0: the seed's)");
+    }
+    if (!overrideIn(spec.textureFeatureMm, kMinTextureFeatureMm, kMaxTextureFeatureMm)) {
+        throw InvalidInput("synthetic scene: the texture's feature size must be between 0.5 and 50 mm (0: the seed's)");
+    }
+    if (!overrideIn(spec.iceWhiteness, kMinIceWhiteness, kMaxIceWhiteness)) {
+        throw InvalidInput("synthetic scene: the ice's whiteness must be between 0.4 and 1 (0: the seed's)");
+    }
     if (spec.kind == SceneKind::Block && spec.ice != IceKind::LeadingEdge) {
         throw InvalidInput("synthetic scene: the ice kind is the blade's; a block scene's ice is the block");
     }
@@ -223,6 +234,9 @@ SyntheticScene renderScene(const SceneSpec& spec) {
     // day and the weather have it.
     scene.look = drawLook(spec.seed, spec.kind == SceneKind::Block);
     scene.look.gloss = spec.gloss;
+    if (spec.textureContrast > 0) scene.look.compositeContrast = spec.textureContrast;
+    if (spec.textureFeatureMm > 0) scene.look.compositeFeatureMm = spec.textureFeatureMm;
+    if (spec.iceWhiteness > 0) scene.look.iceWhiteness = spec.iceWhiteness;
 
     // Nearly fronto-parallel, tilted by a few degrees so the surface spans a range of disparities.
     const bool blade = spec.kind == SceneKind::Blade;

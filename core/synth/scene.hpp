@@ -70,6 +70,10 @@ inline constexpr double kMaxLightTurnDeg = 60.0;
 inline constexpr double kMaxCloudDrift = 0.5;
 inline constexpr double kMaxGloss = 1.0;
 inline constexpr double kMaxTiltDeg = 45.0;
+// The look's overrides (SceneSpec): what another renderer, or another blade, may show.
+inline constexpr double kMinTextureContrast = 0.005, kMaxTextureContrast = 0.3;
+inline constexpr double kMinTextureFeatureMm = 0.5, kMaxTextureFeatureMm = 50.0;
+inline constexpr double kMinIceWhiteness = 0.4, kMaxIceWhiteness = 1.0;
 
 struct SceneSpec {
     SceneKind kind = SceneKind::Blade;
@@ -98,6 +102,12 @@ struct SceneSpec {
     // Wet ice mirrors this much of the light towards the eye at its highlight's peak (0: matte);
     // the blade's coat a third of it (highlight.hpp).
     double gloss = 0.0;
+    // The look the seed draws (look.hpp), overridden where set (0: the seed's): the composite's
+    // texture amplitude (the seed's 0.027-0.05) and the size of its coarsest features (4.5-8.5 mm),
+    // and the albedo of ice thick enough to hide what is under it (0.82-0.93).
+    double textureContrast = 0.0;
+    double textureFeatureMm = 0.0;
+    double iceWhiteness = 0.0;
     double baselineMm = 60.0;
     double horizontalFovDeg = 80.0;
 };

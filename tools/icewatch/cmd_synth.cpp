@@ -92,6 +92,9 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
         double swingDeg = 0.0;
         double cloudDrift = 0.0;
         double gloss = 0.0;
+        double textureContrast = 0.0;
+        double textureFeatureMm = 0.0;
+        double iceWhiteness = 0.0;
         bool force = false;
         bool json = false;
     };
@@ -153,6 +156,17 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
                     "highlights: the peak of the light that wet ice mirrors towards the eye, 0..1 (the blade's coat "
                     "a third of it, rime none; 0: every surface matte); each eye sees a highlight at another place")
         ->check(CLI::Range(0.0, synth::kMaxGloss));
+    cmd->add_option("--texture-contrast", o->textureContrast,
+                    "the blade's texture amplitude, a share of its albedo, 0.005..0.3 (default: the "
+                    "seed's, 0.027..0.05: a weak composite texture; 0.3 is a speckle pattern)")
+        ->check(CLI::Range(synth::kMinTextureContrast, synth::kMaxTextureContrast));
+    cmd->add_option("--texture-feature-mm", o->textureFeatureMm,
+                    "the size of the texture's coarsest features, 0.5..50 mm (default: the seed's, 4.5..8.5)")
+        ->check(CLI::Range(synth::kMinTextureFeatureMm, synth::kMaxTextureFeatureMm));
+    cmd->add_option("--ice-whiteness", o->iceWhiteness,
+                    "the albedo of ice thick enough to hide what is under it, 0.4..1 (default: the seed's, "
+                    "0.82..0.93; grey, dirty ice lower)")
+        ->check(CLI::Range(synth::kMinIceWhiteness, synth::kMaxIceWhiteness));
     cmd->add_option("--out", o->out, "scene directory to write")->required();
     addForceFlag(*cmd, o->force);
     cmd->add_flag("--json", o->json, "print what was written as one JSON object");
@@ -187,6 +201,9 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
             spec.swingDeg = o->swingDeg;
             spec.cloudDrift = o->cloudDrift;
             spec.gloss = o->gloss;
+            spec.textureContrast = o->textureContrast;
+            spec.textureFeatureMm = o->textureFeatureMm;
+            spec.iceWhiteness = o->iceWhiteness;
             Progress progress("synth");
             progress.show("rendering " + o->mode + " x " + std::to_string(spec.frames) + " frames");
             const synth::SyntheticScene scene = synth::renderScene(spec);

@@ -261,6 +261,33 @@ TEST(SynthLooks, SeedsLookDifferentWithinPlausibleRanges) {
     EXPECT_GT(std::abs(sdOne[0] - sdTwo[0]) / std::max(sdOne[0], sdTwo[0]), 0.1);
 }
 
+// Another renderer's look, set instead of the seed's: a strong, fine texture (a speckle pattern)
+// carries more detail than the seed's weak composite, a faint one less, and grey ice is darker
+// than the seed's white; the geometry, and so the truth, does not change.
+TEST(SynthLooks, TheLookCanBeSetInsteadOfTheSeeds) {
+    SceneSpec spec = smallBlade(IceKind::LeadingEdge, MotionKind::None);
+    const SyntheticScene seeds = renderScene(spec);
+    spec.textureContrast = 0.2;
+    spec.textureFeatureMm = 2.0;
+    const SyntheticScene speckle = renderScene(spec);
+    spec.textureContrast = 0.01;
+    spec.textureFeatureMm = 0;
+    spec.iceWhiteness = 0.6;
+    const SyntheticScene faint = renderScene(spec);
+    EXPECT_EQ(speckle.look.compositeContrast, 0.2);
+    EXPECT_EQ(speckle.look.compositeFeatureMm, 2.0);
+    EXPECT_EQ(faint.look.compositeFeatureMm, seeds.look.compositeFeatureMm);
+    EXPECT_EQ(faint.look.iceWhiteness, 0.6);
+    const TextureChange a = textureChange(seeds), b = textureChange(speckle), c = textureChange(faint);
+    EXPECT_GT(b.detailBefore, 3.0 * a.detailBefore);
+    EXPECT_LT(c.detailBefore, 0.5 * a.detailBefore);
+    EXPECT_EQ(speckle.iceVolumeMm3, seeds.iceVolumeMm3);
+    // Where the ice is thick (the horn), grey ice reads darker in the current capture.
+    const cv::Mat horn = seeds.afterIceMm > 5.0f;
+    ASSERT_GT(cv::countNonZero(horn), 50);
+    EXPECT_LT(cv::mean(leftGrey(faint.after), horn)[0], cv::mean(leftGrey(seeds.after), horn)[0] - 20.0);
+}
+
 // The sun moved: the current capture's shading changes unevenly over the curved blade (its
 // leading edge turns another way than its flat middle), the baseline not at all, the ice not.
 TEST(SynthLooks, ALightTurnShadesTheCurrentCaptureUnevenly) {
@@ -344,6 +371,15 @@ TEST(SynthLooks, ImpossibleOptionsAreRefused) {
     EXPECT_THROW(renderScene(spec), InvalidInput);
     spec.distanceMm = 850;
     spec.cloudDrift = 0.6;
+    EXPECT_THROW(renderScene(spec), InvalidInput);
+    spec.cloudDrift = 0;
+    spec.textureContrast = 0.5;
+    EXPECT_THROW(renderScene(spec), InvalidInput);
+    spec.textureContrast = 0;
+    spec.textureFeatureMm = 0.1;
+    EXPECT_THROW(renderScene(spec), InvalidInput);
+    spec.textureFeatureMm = 0;
+    spec.iceWhiteness = 1.5;
     EXPECT_THROW(renderScene(spec), InvalidInput);
     spec = smallBlade(IceKind::Patches);
     spec.kind = SceneKind::Block;
