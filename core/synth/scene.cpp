@@ -175,6 +175,13 @@ void checkSpec(const SceneSpec& spec) {
     if (spec.kind == SceneKind::Block && spec.ice != IceKind::LeadingEdge) {
         throw InvalidInput("synthetic scene: the ice kind is the blade's; a block scene's ice is the block");
     }
+    // The block's plate and ice have looks of their own, and its ice is opaque: the blade's look
+    // and optics would be accepted and silently change nothing.
+    if (spec.kind == SceneKind::Block && (spec.textureContrast != 0.0 || spec.textureFeatureMm != 0.0 ||
+                                          spec.iceWhiteness != 0.0 || spec.optics != IceOptics::Painted)) {
+        throw InvalidInput("synthetic scene: the texture's contrast and feature size, the ice's whiteness and "
+                           "its optics are the blade's; a block scene's plate and ice have their own");
+    }
     if (spec.kind == SceneKind::Block && spec.iceVolumeMm3 / (kBlockLengthMm * kBlockWidthMm) > 200.0) {
         throw InvalidInput("synthetic scene: a block of this volume would be taller than 200 mm");
     }

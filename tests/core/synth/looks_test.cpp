@@ -1,6 +1,9 @@
 // The renderer's variety: ice kinds, motion, background, light change and the seed's look, each
 // changing the truth exactly as the geometry says.
 #include <cmath>
+#include <functional>
+#include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -355,35 +358,43 @@ TEST(SynthLooks, CloudsDriftInTheSkyAtTheSamePlaceInBothEyes) {
 }
 
 TEST(SynthLooks, ImpossibleOptionsAreRefused) {
-    SceneSpec spec = smallBlade(IceKind::LeadingEdge);
-    spec.lightChange = 0.1;
-    EXPECT_THROW(renderScene(spec), InvalidInput);
-    spec.lightChange = 3.5;
-    EXPECT_THROW(renderScene(spec), InvalidInput);
-    spec.lightChange = 1.0;
-    spec.lightTurnDeg = 70;
-    EXPECT_THROW(renderScene(spec), InvalidInput);
-    spec.lightTurnDeg = 0;
-    spec.rollDeg = 200;  // past a half turn
-    EXPECT_THROW(renderScene(spec), InvalidInput);
-    spec.rollDeg = 0;
-    spec.distanceMm = 2000;
-    EXPECT_THROW(renderScene(spec), InvalidInput);
-    spec.distanceMm = 850;
-    spec.cloudDrift = 0.6;
-    EXPECT_THROW(renderScene(spec), InvalidInput);
-    spec.cloudDrift = 0;
-    spec.textureContrast = 0.5;
-    EXPECT_THROW(renderScene(spec), InvalidInput);
-    spec.textureContrast = 0;
-    spec.textureFeatureMm = 0.1;
-    EXPECT_THROW(renderScene(spec), InvalidInput);
-    spec.textureFeatureMm = 0;
-    spec.iceWhiteness = 1.5;
-    EXPECT_THROW(renderScene(spec), InvalidInput);
-    spec = smallBlade(IceKind::Patches);
-    spec.kind = SceneKind::Block;
-    EXPECT_THROW(renderScene(spec), InvalidInput);
+    // Each breaks one thing in a scene that renders: the refusal is for that thing alone.
+    const SceneSpec blade = smallBlade(IceKind::LeadingEdge);
+    SceneSpec block = blade;
+    block.kind = SceneKind::Block;
+    block.iceVolumeMm3 = 20000;
+    ASSERT_NO_THROW(renderScene(blade));
+    ASSERT_NO_THROW(renderScene(block));
+    const std::vector<std::pair<const char*, std::function<void(SceneSpec&)>>> impossible{
+        {"light change under 0.2", [](SceneSpec& s) { s.lightChange = 0.1; }},
+        {"light change over 3", [](SceneSpec& s) { s.lightChange = 3.5; }},
+        {"light turned over 60 degrees", [](SceneSpec& s) { s.lightTurnDeg = 70; }},
+        {"rolled past a half turn", [](SceneSpec& s) { s.rollDeg = 200; }},
+        {"farther than 1500 mm", [](SceneSpec& s) { s.distanceMm = 2000; }},
+        {"clouds drifting over half the image", [](SceneSpec& s) { s.cloudDrift = 0.6; }},
+        {"texture contrast over 0.3", [](SceneSpec& s) { s.textureContrast = 0.5; }},
+        {"texture features under 0.5 mm", [](SceneSpec& s) { s.textureFeatureMm = 0.1; }},
+        {"ice whiter than white", [](SceneSpec& s) { s.iceWhiteness = 1.5; }},
+    };
+    for (const auto& [what, breakIt] : impossible) {
+        SceneSpec spec = blade;
+        breakIt(spec);
+        EXPECT_THROW(renderScene(spec), InvalidInput) << what;
+    }
+    // A block's ice is the block, and its plate and ice have their own look: the blade's ice
+    // kind, look and optics would change nothing, so they are refused rather than ignored.
+    const std::vector<std::pair<const char*, std::function<void(SceneSpec&)>>> bladeOnly{
+        {"rime patches", [](SceneSpec& s) { s.ice = IceKind::Patches; }},
+        {"texture contrast", [](SceneSpec& s) { s.textureContrast = 0.2; }},
+        {"texture feature size", [](SceneSpec& s) { s.textureFeatureMm = 20; }},
+        {"ice whiteness", [](SceneSpec& s) { s.iceWhiteness = 0.6; }},
+        {"refractive ice", [](SceneSpec& s) { s.optics = IceOptics::Refractive; }},
+    };
+    for (const auto& [what, setIt] : bladeOnly) {
+        SceneSpec spec = block;
+        setIt(spec);
+        EXPECT_THROW(renderScene(spec), InvalidInput) << what;
+    }
     EXPECT_THROW(parseIceKind("frost"), InvalidInput);
     EXPECT_THROW(parseMotionKind("huge"), InvalidInput);
     EXPECT_THROW(parseBackground("sea"), InvalidInput);
