@@ -191,8 +191,12 @@ MotionEstimate estimateMotion(const std::vector<TextureTrack>& tracks, const Pla
             reason << "changed its brightness unevenly (the middle half of it over " << 100.0 * objectLight.spread
                    << " %, at most " << 100.0 * o.maxEvidenceLightSpread << " %)";
         }
+        // What tells the two apart is a capture under the baseline's light: a layer still changes
+        // the texture's brightness then, light no longer does. Said, so that whoever reads the
+        // refusal on a sunny day knows what to do rather than only what went wrong.
         reason << ": it may lie under a thin layer over all of the object, or the light changed on the object "
-                  "alone, and does not fix the object's motion";
+                  "alone, and does not fix the object's motion (a capture under the baseline's light, overcast "
+                  "or at the baseline's time of day, tells the two apart)";
         return reason.str();
     };
     out.objectLightShift = objectLight.shift;
