@@ -600,7 +600,7 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     // --- thickness on the plane's grid, where the ice may be ---
     const ThicknessMap map = thicknessMap(clouds, baseline.roi, model->ringMask, possibleIce, plane,
                                           impl_->projection.get_minor<3, 3>(0, 0), p, hidden,
-                                          seenThroughPixels(baseline.roi, tracks, motion.objectLightShifted));
+                                          seenThroughPixels(baseline.roi, tracks, p.trackStepPx, motion.objectLightShifted));
     if (map.insideNodes == 0) return refused(result, "the region covers no part of the measured surface");
     result.filledPercent = 100.0 * map.filledNodes / std::max(1, map.iceNodes);
     timer.lap("grid");
@@ -616,6 +616,7 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     const SeenThroughIce seen = seenThroughIce(map);
     result.volumeMm3 = ice.volumeMm3 + seenThroughShareMm3(seen);
     result.seenThroughMm3 = seen.readMm3;
+    result.glimpsedThroughMm3 = seen.glimpsedReadMm3;
     result.areaMm2 = ice.areaMm2;
     result.iceAreaMm2 = ice.iceAreaMm2;
     result.beyondOutlineMm3 = ice.beyondOutlineMm3;

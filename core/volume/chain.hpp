@@ -82,6 +82,7 @@ struct VolumeResult {
     // Ice the object's texture was seen through (seen_through.hpp), as the matcher read it. The
     // volume holds the middle of what such ice may be (that to n/(n − 1) times it), the budget the rest.
     double seenThroughMm3 = 0;
+    double glimpsedThroughMm3 = 0;  // read where the texture was only glimpsed through ice (seen_through.hpp)
     double iceMaskPercent = 0;   // of the region
     double matcherPushPx = 0;    // the matcher's change against the tracks' on clean texture (matcher_push.hpp)
     double matcherPushSigmaPx = 0;  // and its standard error

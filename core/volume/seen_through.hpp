@@ -26,8 +26,8 @@ struct ThicknessMap;
 // for it: a patch that an edge of opaque ice entered, or a motion the rigid model does not quite
 // fit, does that too (beside a rendered ice block, 322 plate samples rose 0.6 mm).
 
-// Per baseline left pixel (CV_8U, 255): where the nearest texture sample on the object (`object`,
-// the region) was found again with a changed look (TextureTrack::State::Changed). Nearest, so
+// Per baseline left pixel (CV_8U, kSeenThrough): where the nearest texture sample on the object
+// (`object`, the region) was found again with a changed look (TextureTrack::State::Changed). Nearest, so
 // that every pixel of the object takes the word of one sample: opaque ice hides the texture of its
 // samples, clean surface has its own.
 // With `unchangedToo`, the samples found with their look unchanged say so as well: the object's
@@ -35,7 +35,19 @@ struct ThicknessMap;
 // MotionEstimate::objectLightShift), so a thin layer over all of it changed even what kept its
 // look, only less (a clear glaze with wet highlights on a table, rendered with refraction: 258
 // such samples beside 344 changed ones, and -42 % read as ok within +-76 990 mm3 without them).
-cv::Mat seenThroughPixels(const cv::Mat& object, const std::vector<TextureTrack>& tracks, bool unchangedToo = false);
+// kGlimpsedThrough where the nearest sample is a track left unmeasured but glimpsed with its look
+// changed (TextureTrack::glimpsed) and none of the eight samples around it (`stepPx` apart, the
+// tracks' grid) kept its look: inside the ice, not at its edge. Under a clear layer refraction
+// shifts the texture otherwise in each eye and the layer veils it, so its tracks fail their
+// precision: a thick refractive glaze on a table, rendered, left about 450 of its 1 050 samples so, and
+// read -43 % as ok within +-91 449 mm3 while only its measured samples counted as seen through.
+// A glimpse is weaker evidence than a measured track (a patch half under an edge of opaque ice
+// is glimpsed too), so such ice widens the uncertainty to what refraction may hide but does not
+// move the estimate (seenThroughSigmaMm3).
+inline constexpr std::uint8_t kSeenThrough = 255;
+inline constexpr std::uint8_t kGlimpsedThrough = 128;
+cv::Mat seenThroughPixels(const cv::Mat& object, const std::vector<TextureTrack>& tracks, int stepPx,
+                          bool unchangedToo = false);
 
 // How much thicker than what stereo sees ice may be when the texture was seen through it.
 inline constexpr double kSeenThroughFactor = kIceRefractiveIndex / (kIceRefractiveIndex - 1.0);
@@ -44,6 +56,8 @@ inline constexpr double kSeenThroughFactor = kIceRefractiveIndex / (kIceRefracti
 struct SeenThroughIce {
     double readMm3 = 0;  // integrated over those nodes, as the matcher read it (≥ 0)
     int nodes = 0;
+    double glimpsedReadMm3 = 0;  // the same over the nodes glimpsed through (kGlimpsedThrough)
+    int glimpsedNodes = 0;
 };
 SeenThroughIce seenThroughIce(const ThicknessMap& map);
 
@@ -54,6 +68,8 @@ SeenThroughIce seenThroughIce(const ThicknessMap& map);
 // is its 1 σ. The read at either end carries errors of its own besides: a painted glaze on a table
 // under light at 0.7, rendered, read 13 % over its truth, and with the uniform's σ was reported
 // +148 % at 0.93 of its uncertainty.
+// The share is of the ice seen through alone; the σ of it and of the ice glimpsed through, whose
+// estimate is what was read (the interval's lower end: the same σ, at k = 2, reaches its upper).
 double seenThroughShareMm3(const SeenThroughIce& seen);
 double seenThroughSigmaMm3(const SeenThroughIce& seen);
 

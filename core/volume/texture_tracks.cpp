@@ -88,7 +88,14 @@ TextureTrack trackOne(const RectifiedCapture& baseline, const RectifiedCapture& 
     near.searchPx = 2;
     const PatchTrack right = trackPatch(baseline.right, current.right, atRight, left.shift, near);
     if (!right.found) return out;
-    if (std::max(worstSigma(left.covariance), worstSigma(right.covariance)) > o.maxShiftSigmaPx) return out;
+    if (std::max(worstSigma(left.covariance), worstSigma(right.covariance)) > o.maxShiftSigmaPx) {
+        // Found in both eyes where the motion puts it, but less precisely than evidence must be:
+        // a glimpse of the texture (a chance peak of a hidden one lies anywhere in the search).
+        out.glimpsed = left.zncc >= o.minZncc && right.zncc >= o.minZncc &&
+                       cv::norm(left.shift - prior) <= o.glimpseReachPx;
+        out.glimpsedLookChanged = out.glimpsed && (appearanceChanged(left, o) || appearanceChanged(right, o));
+        return out;
+    }
     const double currentDisparity = disparity + left.shift.x - right.shift.x;
     if (!(currentDisparity > 0)) return out;
     cv::Matx33d jacobian;
@@ -170,9 +177,9 @@ std::vector<TextureTrack> trackTexture(const BaselineSamples& samples, const Rec
         sceneRatio = medianOf(ratios);
     }
     for (TextureTrack& t : tracks) {
-        if (t.state == TextureTrack::State::Unchanged && std::abs(t.brightnessRatio / sceneRatio - 1.0) > o.maxBrightnessChange) {
-            t.state = TextureTrack::State::Changed;
-        }
+        const bool brightnessChanged = std::abs(t.brightnessRatio / sceneRatio - 1.0) > o.maxBrightnessChange;
+        if (t.state == TextureTrack::State::Unchanged && brightnessChanged) t.state = TextureTrack::State::Changed;
+        if (t.glimpsed && brightnessChanged) t.glimpsedLookChanged = true;
     }
     return tracks;
 }

@@ -28,6 +28,12 @@ struct TextureTrackOptions {
     // (the background's, or the median over every sample found: light scales the scene alike)
     // changed its look.
     double maxBrightnessChange = 0.04;
+    // A track found in both eyes but too imprecise to be evidence is a glimpse of its texture when
+    // the left patch lies within this of where the image motion puts it. Refraction under a clear
+    // layer moves it by a fraction of a pixel; a chance peak in a patch whose texture opaque ice
+    // hid lies anywhere in the search (on a rendered ice block 22 of 23 such peaks were not found
+    // in the right eye, and most lay 1-8 px off; under a refractive glaze 407 of 469 lay within 1 px).
+    double glimpseReachPx = 2.0;
 };
 
 // Whether a pixel is one of the baseline's texture samples (before the object's outline picks
@@ -55,6 +61,12 @@ struct TextureTrack {
     double zncc = 0;
     double offsetGrey = 0;    // photometric offset of the left eye's temporal track
     double brightnessRatio = 1;  // of the left eye's temporal track
+    // Untracked, yet found again in both eyes (correlation at least minZncc) where the image
+    // motion puts it (glimpseReachPx): too imprecise to measure in three dimensions, but its
+    // texture still shows. A clear layer veils it and refraction shifts it otherwise in each eye,
+    // which is what leaves such a track imprecise; the layer does not hide it, as opaque ice would.
+    bool glimpsed = false;
+    bool glimpsedLookChanged = false;  // and its look changed (offset, or brightness against the scene's)
 };
 
 // The baseline's texture followed into the current capture in both eyes, without the stereo

@@ -157,7 +157,7 @@ ThicknessMap thicknessMap(const PlaneClouds& clouds, const cv::Mat& roi, const c
                 continue;
             }
             map.onIce.at<std::uint8_t>(j, i) = 255;
-            if (!seenThrough.empty() && seenThrough.at<std::uint8_t>(y, x)) map.seenThrough.at<std::uint8_t>(j, i) = 255;
+            if (!seenThrough.empty()) map.seenThrough.at<std::uint8_t>(j, i) = seenThrough.at<std::uint8_t>(y, x);
             ++map.iceNodes;
             map.thickness.at<double>(j, i) = currentHeight.at<double>(j, i) - baselineHeight.at<double>(j, i);
             const double least = currentLeast.at<double>(j, i) - baselineLeast.at<double>(j, i);

@@ -268,6 +268,7 @@ void addVolumeCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunctio
                 out["beyond_outline_mm3"] = r.beyondOutlineMm3;
                 out["beyond_outline_area_mm2"] = r.beyondOutlineAreaMm2;
                 out["seen_through_mm3"] = r.seenThroughMm3;
+                out["glimpsed_through_mm3"] = r.glimpsedThroughMm3;
                 out["ice_mask_percent"] = r.iceMaskPercent;
                 out["matcher_push_px"] = r.matcherPushPx;
                 out["matcher_push_sigma_px"] = r.matcherPushSigmaPx;

@@ -159,14 +159,19 @@ AveragedBlade measureAveragedBlade(const synth::SceneSpec& spec, stereo::Method 
     return out;
 }
 
-// The blade was measured: ok, inside its uncertainty, and within `share` of the truth.
-void expectMeasured(const AveragedBlade& b, double share) {
+// The blade was measured: ok and inside its uncertainty.
+void expectCovered(const AveragedBlade& b) {
     const VolumeResult& r = b.result;
     ASSERT_TRUE(r.ok) << r.reason << " (" << r.unchangedSamples << " unchanged, " << r.changedSamples << " changed)";
-    const double error = std::abs(r.volumeMm3 - b.scene.iceVolumeMm3);
-    EXPECT_LT(error, r.uncertaintyMm3) << "measured " << r.volumeMm3 << " ± " << r.uncertaintyMm3 << " truth "
-                                       << b.scene.iceVolumeMm3;
-    EXPECT_LT(error, share * b.scene.iceVolumeMm3) << "measured " << r.volumeMm3;
+    EXPECT_LT(std::abs(r.volumeMm3 - b.scene.iceVolumeMm3), r.uncertaintyMm3)
+        << "measured " << r.volumeMm3 << " ± " << r.uncertaintyMm3 << " truth " << b.scene.iceVolumeMm3;
+}
+
+// And within `share` of the truth.
+void expectMeasured(const AveragedBlade& b, double share) {
+    ASSERT_NO_FATAL_FAILURE(expectCovered(b));
+    EXPECT_LT(std::abs(b.result.volumeMm3 - b.scene.iceVolumeMm3), share * b.scene.iceVolumeMm3)
+        << "measured " << b.result.volumeMm3;
 }
 
 synth::SceneSpec smallBladeSpec() {
@@ -322,6 +327,23 @@ TEST(VolumeChain, AClearGlazeTheBladeIsSeenThroughIsWithinItsUncertaintyHoweverI
             << name << ": measured " << r.volumeMm3 << " ± " << r.uncertaintyMm3 << " truth " << b.scene.iceVolumeMm3;
         EXPECT_GT(r.seenThroughMm3, 0.1 * b.scene.iceVolumeMm3) << name << ": the blade was seen through the glaze";
     }
+}
+
+// A thick clear glaze (350 000 mm³, 5 mm on average) over a blade lying on a table that moved a
+// little, rendered with refraction (seed 755). The layer veils the composite and refraction
+// shifts it otherwise in each eye, so most of the blade's samples are found again in the left eye
+// but left unmeasured; stereo reads the composite under the ice, about half of it. With only the
+// measured samples taken as seen through it said ok at -48 % within ±126 000 mm³.
+TEST(VolumeChain, AThickClearGlazeWhoseTextureIsOnlyGlimpsedIsWithinItsUncertainty) {
+    synth::SceneSpec spec = smallBladeSpec();
+    spec.seed = 755;
+    spec.ice = synth::IceKind::GlazeAll;
+    spec.iceVolumeMm3 = 350000;
+    spec.background = synth::Background::Table;
+    spec.optics = synth::IceOptics::Refractive;
+    const AveragedBlade b = measureAveragedBlade(spec, stereo::Method::Paper);
+    ASSERT_NO_FATAL_FAILURE(expectCovered(b));
+    EXPECT_GT(b.result.glimpsedThroughMm3, b.result.seenThroughMm3) << "most of the blade was glimpsed under the glaze";
 }
 
 // A blade parked at another pitch, or bent by another wind: it moved 16 mm and turned 2° (seed 3),
