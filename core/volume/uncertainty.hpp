@@ -57,8 +57,9 @@ struct ViewGeometry {
 //                 not pass for edges;
 //   fattening     on an object seen at an angle, the ice's edges stand in front of the surface
 //                 behind them, and a window centred on that surface takes the ice's nearer
-//                 disparity (foreground fattening): every edge may reach out by anything from none
-//                 to all of view.fatteningPx, uniformly, so σ = fatteningPx/√3 on the same ∫|∇t|;
+//                 disparity (foreground fattening): every edge may reach out by as much as
+//                 view.fatteningPx and, where the windows gave up beside the step, further: that
+//                 reach is the σ, on the same ∫|∇t|;
 //   scale         scale_uncertainty_percent of the volume;
 //   seen through  ice the object's texture was seen through may be up to n/(n − 1) times as thick as
 //                 stereo sees it (seenThroughSigmaMm3);

@@ -57,8 +57,9 @@ TEST(VolumeUncertainty, ThePushCountsWithWhatIsNotKnownOfIt) {
 // angle), bridged 6 mm above its least over 10 nodes: from the far surface to the near one, the
 // bridge the middle, uniformly. Where nothing was hidden the term is nothing.
 // A step 6 mm high across the grid (the rows the gradient is taken on: 8 of 2 mm), seen 1 m
-// away at 1 mm a pixel: an edge reaching out by up to 6 px, uniformly, is 6/√3 mm of its 6 mm
-// height along 16 mm. Facing the camera (no reach) it counts nothing.
+// away at 1 mm a pixel: an edge reaching out by 6 px, all of it as its σ (the error is all on one
+// side, and beside a step the matcher's wider reach may stand), is 6 mm of its 6 mm height along
+// 16 mm. Facing the camera (no reach) it counts nothing.
 TEST(VolumeUncertainty, AnEdgeSeenAtAnAngleMayReachOutAsFarAsTheWindows) {
     ThicknessMap map = flatMap();
     map.thickness.colRange(0, 10).setTo(0.0);
@@ -70,9 +71,9 @@ TEST(VolumeUncertainty, AnEdgeSeenAtAnAngleMayReachOutAsFarAsTheWindows) {
     EXPECT_EQ(volumeUncertainty(map, plane, {}, {}, view, p, 800.0).fatteningMm3, 0.0);
     view.fatteningPx = 6.0;
     const UncertaintyBudget b = volumeUncertainty(map, plane, {}, {}, view, p, 800.0);
-    EXPECT_NEAR(b.fatteningMm3, 6.0 / std::sqrt(3.0) * 6.0 * 16.0, 0.05 * 6.0 / std::sqrt(3.0) * 6.0 * 16.0);
+    EXPECT_NEAR(b.fatteningMm3, 6.0 * 6.0 * 16.0, 0.05 * 6.0 * 6.0 * 16.0);
     // The same edges as the edge term's, at another width.
-    EXPECT_NEAR(b.fatteningMm3, b.edgeMm3 * 6.0 / std::sqrt(3.0) / p.edgeUncertaintyPx, 1e-9);
+    EXPECT_NEAR(b.fatteningMm3, b.edgeMm3 * 6.0 / p.edgeUncertaintyPx, 1e-9);
     UncertaintyBudget without = b;
     without.fatteningMm3 = 0;
     EXPECT_GT(expandedUncertainty(b, 2.0), expandedUncertainty(without, 2.0));
