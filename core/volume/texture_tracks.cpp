@@ -88,12 +88,13 @@ TextureTrack trackOne(const RectifiedCapture& baseline, const RectifiedCapture& 
     near.searchPx = 2;
     const PatchTrack right = trackPatch(baseline.right, current.right, atRight, left.shift, near);
     if (!right.found) return out;
+    const bool changed = appearanceChanged(left, o) || appearanceChanged(right, o);
     if (std::max(worstSigma(left.covariance), worstSigma(right.covariance)) > o.maxShiftSigmaPx) {
         // Found in both eyes where the motion puts it, but less precisely than evidence must be:
         // a glimpse of the texture (a chance peak of a hidden one lies anywhere in the search).
         out.glimpsed = left.zncc >= o.minZncc && right.zncc >= o.minZncc &&
                        cv::norm(left.shift - prior) <= o.glimpseReachPx;
-        out.glimpsedLookChanged = out.glimpsed && (appearanceChanged(left, o) || appearanceChanged(right, o));
+        out.glimpsedLookChanged = out.glimpsed && changed;
         return out;
     }
     const double currentDisparity = disparity + left.shift.x - right.shift.x;
@@ -112,7 +113,6 @@ TextureTrack trackOne(const RectifiedCapture& baseline, const RectifiedCapture& 
                             l(1, 0), l(1, 1), l(1, 0),  //
                             l(0, 0), l(0, 1), l(0, 0) + rx);
     out.covarianceMm2 = jacobian * input * jacobian.t();
-    const bool changed = appearanceChanged(left, o) || appearanceChanged(right, o);
     out.state = changed ? TextureTrack::State::Changed : TextureTrack::State::Unchanged;
     return out;
 }
