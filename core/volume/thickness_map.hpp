@@ -23,8 +23,8 @@ struct ThicknessMap {
     cv::Mat fringe;          // CV_8U per node: ice inside the outline within outline_fringe_px of `tapered`
                              // or of `thinBeyondMm`
     cv::Mat seenThrough;     // CV_8U per node: ice inside the outline the object's texture was seen
-                             // through (kSeenThrough) or glimpsed through (kGlimpsedThrough, seen_through.hpp)
-                             // (seen_through.hpp); empty when there was none
+                             // through (kSeenThrough) or glimpsed through (kGlimpsedThrough), as
+                             // seen_through.hpp says; empty when there was none
     // CV_64F per node: how far the thickness stands above its least, where a band the camera does
     // not see along its line of sight (behind a block's far edge, under a horn seen at an angle) was
     // bridged by the interpolation in either capture; 0 elsewhere. The hidden band may be as low as
