@@ -19,6 +19,25 @@ namespace icewatch::volume {
 
 namespace {
 
+// Why the frames were dropped, for a refusal: the first frame of each cause in full, the others
+// counted. A burst under the same fault drops every frame alike, and a reason naming all sixteen
+// would bury the cause on the operator's screen and in the JSON that SCADA reads.
+std::string droppedSummary(const std::vector<DroppedFrame>& dropped) {
+    std::vector<std::pair<const DroppedFrame*, int>> causes;  // the first of each flag, and how many
+    for (const DroppedFrame& d : dropped) {
+        const auto same = std::find_if(causes.begin(), causes.end(),
+                                       [&d](const auto& c) { return c.first->flag == d.flag; });
+        if (same == causes.end()) causes.emplace_back(&d, 1);
+        else ++same->second;
+    }
+    std::string summary;
+    for (const auto& [first, count] : causes) {
+        summary += "; " + first->reason;
+        if (count > 1) summary += " (and " + std::to_string(count - 1) + " more frames: " + first->flag + ")";
+    }
+    return summary;
+}
+
 cv::Mat greyOf(const cv::Mat& frame) {
     if (frame.channels() == 1) return frame;
     cv::Mat grey;
@@ -207,7 +226,7 @@ AveragedCapture CaptureAccumulator::finish() {
     if (used < needed) {
         out.reason = std::to_string(used) + " usable frames of " + std::to_string(a.framesAdded) + " (" +
                      std::to_string(needed) + " needed)";
-        for (const DroppedFrame& d : out.dropped) out.reason += "; " + d.reason;
+        out.reason += droppedSummary(out.dropped);
         return out;
     }
     Group& group = a.groups[static_cast<std::size_t>(winner)];

@@ -136,6 +136,26 @@ TEST(CaptureAverage, TooFewUsableFramesIsNoCaptureAndSaysWhy) {
     EXPECT_NE(a.reason.find("0 usable frames of 2"), std::string::npos) << a.reason;
 }
 
+// A burst under one fault drops every frame alike: the reason names the first in full and counts
+// the rest, so that it stays one readable line however long the burst.
+TEST(CaptureAverage, FramesDroppedForTheSameCauseAreCountedNotListed) {
+    std::vector<cv::Mat> frames;
+    std::vector<std::string> names;
+    for (int k = 1; k <= 6; ++k) {
+        frames.push_back(noisyFrame(scene(), 2.0, k) / 20);
+        names.push_back("00000" + std::to_string(k) + ".jpg");
+    }
+    CaptureAverageOptions o = lenient();
+    o.minFrames = 1;
+    const AveragedCapture a = averageCapture(frames, names, o);
+    ASSERT_TRUE(a.frame.empty());
+    ASSERT_EQ(a.dropped.size(), 6u);
+    EXPECT_NE(a.reason.find("0 usable frames of 6"), std::string::npos) << a.reason;
+    EXPECT_NE(a.reason.find("000001.jpg: "), std::string::npos) << a.reason;
+    EXPECT_EQ(a.reason.find("000002.jpg"), std::string::npos) << a.reason;
+    EXPECT_NE(a.reason.find("(and 5 more frames: " + a.dropped[0].flag + ")"), std::string::npos) << a.reason;
+}
+
 TEST(CaptureAverage, AFrameOfAnotherSizeIsAnError) {
     std::vector<cv::Mat> frames{noisyFrame(scene(), 2.0, 1), cv::Mat(100, 100, CV_8U, cv::Scalar(90))};
     EXPECT_THROW(averageCapture(frames, {"a.jpg", "b.jpg"}, lenient()), InvalidInput);
