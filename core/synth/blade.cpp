@@ -11,7 +11,12 @@
 //                 for a little ice, a few cm for much; its proportions by the seed), which is the
 //                 blade's outline as the camera sees it: it rises over the suction side and stands
 //                 out in front of the clean outline (beadFront), leaving the root clean;
-//   bead-glaze    the same bead over a thin glaze across the whole visible surface.
+//   bead-glaze    the same bead over a thin glaze across the whole visible surface;
+//   ridges        two to four narrow ridges along the span behind the leading edge, where water ran
+//                 back and froze: steep-sided, one to five times as wide as high, a few mm high for
+//                 a little ice and a couple of cm for much (their proportions by the seed), each
+//                 starting and ending somewhere along the span and wandering a little across the
+//                 chord. As narrow as the matcher's window, with clean surface right beside them.
 #include "core/synth/blade.hpp"
 
 #include <algorithm>
@@ -69,6 +74,23 @@ double beadAlongSpan(double spanPos, double x, double y, std::uint32_t seed) {
            (1.0 + 0.15 * fractalNoise(x, y, 40.0, 2, seed + 700));
 }
 
+// A runback ridge: where it runs across the chord (fraction), how wide and high it is for a size of
+// 1 mm, and the part of the span it covers.
+struct Ridge {
+    double chord, halfWidth, height, spanFrom, spanTo, wavePhase;
+};
+
+std::vector<Ridge> drawRidges(std::uint32_t seed) {
+    std::mt19937 random(seed ^ 0x52696467u);
+    auto uniform = [&random](double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(random); };
+    std::vector<Ridge> ridges(static_cast<std::size_t>(2 + random() % 3));
+    for (Ridge& r : ridges) {
+        r = {uniform(0.12, 0.6), uniform(0.6, 1.2), uniform(0.5, 1.0), uniform(0.05, 0.4), uniform(0.6, 0.98),
+             uniform(0.0, 2.0 * kPi)};
+    }
+    return ridges;
+}
+
 std::vector<Patch> drawPatches(std::uint32_t seed) {
     std::mt19937 random(seed ^ 0x50617463u);
     auto uniform = [&random](double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(random); };
@@ -85,8 +107,9 @@ std::vector<Patch> drawPatches(std::uint32_t seed) {
 class IceShape {
 public:
     IceShape(IceKind kind, std::uint32_t seed, double beadOverMm)
-        : kind_(kind), seed_(seed), bead_(drawBead(seed, beadOverMm)) {
+        : kind_(kind), seed_(seed), sizeMm_(beadOverMm), bead_(drawBead(seed, beadOverMm)) {
         if (kind == IceKind::Patches) patches_ = drawPatches(seed);
+        if (kind == IceKind::Ridges) ridges_ = drawRidges(seed);
     }
 
     // chordMm: the local chord, so that the bead keeps its width in millimetres.
@@ -120,6 +143,18 @@ public:
                 // Rime is rough: its surface varies by a third on a scale of millimetres.
                 return thickness * std::max(0.0, 1.0 + 0.35 * fractalNoise(x, y, 6.0, 3, seed_ + 800));
             }
+            case IceKind::Ridges: {
+                // In mm already, as the bead's: a ridge's width and height scale with the size.
+                double thickness = 0.0;
+                for (const Ridge& r : ridges_) {
+                    const double along = smoothstep(r.spanFrom, r.spanFrom + 0.05, spanPos) *
+                                         (1.0 - smoothstep(r.spanTo - 0.05, r.spanTo, spanPos));
+                    const double centreMm = r.chord * chordMm + 0.03 * chordMm * std::sin(x / 25.0 + r.wavePhase);
+                    const double t = (c * chordMm - centreMm) / (r.halfWidth * sizeMm_);
+                    thickness = std::max(thickness, r.height * sizeMm_ * along * beadProfile(std::abs(t)));
+                }
+                return thickness;
+            }
         }
         return 0.0;
     }
@@ -129,8 +164,10 @@ public:
 private:
     IceKind kind_;
     std::uint32_t seed_;
+    double sizeMm_;
     Bead bead_;
     std::vector<Patch> patches_;
+    std::vector<Ridge> ridges_;
 };
 
 double chordAt(double spanPos) { return kRootChordMm + (kTipChordMm - kRootChordMm) * spanPos; }
@@ -141,7 +178,7 @@ GridSurface bladeSurface(IceKind ice, std::uint32_t seed, double beadOverMm) {
     const IceShape iceShape(ice, seed, beadOverMm);
     GridSurface s;
     s.nu = 410;
-    s.nv = 96;
+    s.nv = ice == IceKind::Ridges ? 288 : 96;  // a ridge a few mm across needs stations closer than 2 mm
     s.local.resize(static_cast<std::size_t>(s.nu + 1) * (s.nv + 1));
     s.ice.resize(s.local.size());
     for (int j = 0; j <= s.nv; ++j) {

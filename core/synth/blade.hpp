@@ -7,14 +7,15 @@
 
 namespace icewatch::synth {
 
-// A bead's reach over the suction side (mm) before bladeGeometry sizes it to the requested volume.
+// A bead's reach over the suction side (mm), or the size of the ridges (their width and height for
+// 1 mm), before bladeGeometry sizes it to the requested volume.
 constexpr double kBeadReferenceMm = 10.0;
 
 // The seed paper's model blade as a grid over its planform (x along the span, root at -x, y along
 // the chord, leading edge at -y, h the suction side's height above the flat pressure side), with
 // the ice of the given kind for amplitude 1 (its volume is scaled afterwards). A bead's ice is in
 // mm already, for a bead reaching beadOverMm over the suction side, as high as the seed's
-// proportions make it.
+// proportions make it; so are the ridges', beadOverMm their size.
 GridSurface bladeSurface(IceKind ice, std::uint32_t seed, double beadOverMm = kBeadReferenceMm);
 
 // The part of a bead ice kind that stands in front of the leading edge: a grid over the chord

@@ -77,6 +77,11 @@ Geometry bladeGeometry(const SceneSpec& spec, const Pose& before, const Pose& af
         surface = bladeSurface(spec.ice, spec.seed, overMm);
         front = beadFront(spec.ice, spec.seed, overMm);
     }
+    if (spec.ice == IceKind::Ridges) {
+        // Ridges keep their proportions too: their cross-section grows with the square of their size.
+        const double sizeMm = kBeadReferenceMm * std::sqrt(spec.iceVolumeMm3 / iceVolumeMm3(surface));
+        surface = bladeSurface(spec.ice, spec.seed, sizeMm);
+    }
     const double scale = spec.iceVolumeMm3 / (iceVolumeMm3(surface) + iceVolumeMm3(front));
     for (float& t : surface.ice) t = static_cast<float>(t * scale);
     for (float& t : front.ice) t = static_cast<float>(t * scale);
@@ -208,7 +213,7 @@ std::string nameOf(Enum value, const std::pair<Enum, const char*> (&names)[N]) {
 constexpr std::pair<SceneKind, const char*> kSceneNames[] = {{SceneKind::Blade, "blade"}, {SceneKind::Block, "block"}};
 constexpr std::pair<IceKind, const char*> kIceNames[] = {
     {IceKind::LeadingEdge, "leading-edge"}, {IceKind::GlazeAll, "glaze-all"}, {IceKind::Patches, "patches"},
-    {IceKind::Bead, "bead"}, {IceKind::BeadGlaze, "bead-glaze"}};
+    {IceKind::Bead, "bead"}, {IceKind::BeadGlaze, "bead-glaze"}, {IceKind::Ridges, "ridges"}};
 constexpr std::pair<MotionKind, const char*> kMotionNames[] = {{MotionKind::None, "none"}, {MotionKind::Small, "small"},
                                                               {MotionKind::Large, "large"}};
 constexpr std::pair<Background, const char*> kBackgroundNames[] = {{Background::Sky, "sky"},

@@ -26,6 +26,7 @@ enum class IceKind {
     Bead,         // a narrow bead on the leading edge, a few mm to a few cm wide, standing out of
                   // the outline the camera sees
     BeadGlaze,    // the same bead over a thin glaze across the whole visible surface
+    Ridges,       // a few narrow, steep ridges along the span behind the leading edge (runback ice)
 };
 
 // How the object moved between the captures.

@@ -34,7 +34,8 @@ float icedComposite(const Shading& s, float albedo, const VertexAttributes& a) {
     switch (s.ice) {
         case IceKind::LeadingEdge:
         case IceKind::Bead:
-        case IceKind::BeadGlaze: {
+        case IceKind::BeadGlaze:
+        case IceKind::Ridges: {
             // White, translucent where thin, with its own faint texture.
             const float opacity = 1.0f - std::exp(-thickness / translucencyMm);
             const float ice = whiteness + 0.03f * fractalNoise(a[0], a[1], 3.0, 3, s.seed + 100);

@@ -78,7 +78,7 @@ TextureChange textureChange(const SyntheticScene& scene) {
 
 TEST(SynthLooks, EveryIceKindCarriesExactlyTheRequestedVolume) {
     for (const IceKind ice :
-         {IceKind::LeadingEdge, IceKind::GlazeAll, IceKind::Patches, IceKind::Bead, IceKind::BeadGlaze}) {
+         {IceKind::LeadingEdge, IceKind::GlazeAll, IceKind::Patches, IceKind::Bead, IceKind::BeadGlaze, IceKind::Ridges}) {
         for (const double volume : {97609.0, 257391.0}) {
             SceneSpec spec = smallBlade(ice);
             spec.iceVolumeMm3 = volume;
@@ -112,6 +112,22 @@ TEST(SynthLooks, ABeadStandsOutOfTheCleanOutlineAndTheGlazeCoversTheRest) {
         else EXPECT_GT(minIce, 0.0);
         EXPECT_LT(cv::mean(scene.afterIceMm, inner)[0], 0.3 * scene.maxIceThicknessMm) << iceKindName(ice);
     }
+}
+
+// Runback ridges are narrow and steep: little of the blade is iced, and what is stands millimetres
+// high, with clean surface beside it (the case a matcher's window smears).
+TEST(SynthLooks, RidgesAreNarrowSteepBandsWithCleanSurfaceBeside) {
+    const SyntheticScene scene = renderScene(smallBlade(IceKind::Ridges, MotionKind::None));
+    const cv::Mat object = scene.beforeDisparity > 0;
+    const cv::Mat iced = (scene.afterIceMm > 0.05) & object;
+    ASSERT_GT(cv::countNonZero(object), 2000);
+    const double icedFraction = static_cast<double>(cv::countNonZero(iced)) / cv::countNonZero(object);
+    EXPECT_GT(icedFraction, 0.01);
+    EXPECT_LT(icedFraction, 0.35);
+    EXPECT_GT(scene.maxIceThicknessMm, 2.0);
+    // Most of the blade stays bare: the registration has clean texture beside every ridge.
+    const cv::Mat clean = (scene.afterIceMm <= 0.0) & object;
+    EXPECT_GT(cv::countNonZero(clean), cv::countNonZero(object) / 2);
 }
 
 TEST(SynthLooks, GlazeCoversTheWholeBladeThinlyAndLetsItsTextureThrough) {
