@@ -17,6 +17,9 @@
 //                 a little ice and a couple of cm for much (their proportions by the seed), each
 //                 starting and ending somewhere along the span and wandering a little across the
 //                 chord. As narrow as the matcher's window, with clean surface right beside them.
+//   shed          what is left after part of the ice shed: a few sheets of one thickness anywhere
+//                 on the blade, broken off along jagged lines, so that each ends in a sharp step
+//                 of its full thickness (the rime patches end in slopes tens of mm long).
 #include "core/synth/blade.hpp"
 
 #include <algorithm>
@@ -110,6 +113,7 @@ public:
         : kind_(kind), seed_(seed), sizeMm_(beadOverMm), bead_(drawBead(seed, beadOverMm)) {
         if (kind == IceKind::Patches) patches_ = drawPatches(seed);
         if (kind == IceKind::Ridges) ridges_ = drawRidges(seed);
+        if (kind == IceKind::Shed) patches_ = drawPatches(seed ^ 0x53686564u);
     }
 
     // chordMm: the local chord, so that the bead keeps its width in millimetres.
@@ -142,6 +146,15 @@ public:
                 }
                 // Rime is rough: its surface varies by a third on a scale of millimetres.
                 return thickness * std::max(0.0, 1.0 + 0.35 * fractalNoise(x, y, 6.0, 3, seed_ + 800));
+            }
+            case IceKind::Shed: {
+                for (const Patch& p : patches_) {
+                    const double dx = (x - p.centreXMm) / p.radiusXMm, dc = (c - p.centreChord) / p.radiusChord;
+                    // Broken off along a jagged line: the radius wanders by a sixth on a scale of cm.
+                    const double edge = 1.0 + 0.17 * fractalNoise(x, y, 12.0, 2, seed_ + 900);
+                    if (dx * dx + dc * dc < edge * edge) return 1.0;
+                }
+                return 0.0;
             }
             case IceKind::Ridges: {
                 // In mm already, as the bead's: a ridge's width and height scale with the size.
@@ -178,7 +191,8 @@ GridSurface bladeSurface(IceKind ice, std::uint32_t seed, double beadOverMm) {
     const IceShape iceShape(ice, seed, beadOverMm);
     GridSurface s;
     s.nu = 410;
-    s.nv = ice == IceKind::Ridges ? 288 : 96;  // a ridge a few mm across needs stations closer than 2 mm
+    // A ridge a few mm across, or a sheet's broken edge, needs stations closer than 2 mm.
+    s.nv = ice == IceKind::Ridges || ice == IceKind::Shed ? 288 : 96;
     s.local.resize(static_cast<std::size_t>(s.nu + 1) * (s.nv + 1));
     s.ice.resize(s.local.size());
     for (int j = 0; j <= s.nv; ++j) {

@@ -213,7 +213,8 @@ std::string nameOf(Enum value, const std::pair<Enum, const char*> (&names)[N]) {
 constexpr std::pair<SceneKind, const char*> kSceneNames[] = {{SceneKind::Blade, "blade"}, {SceneKind::Block, "block"}};
 constexpr std::pair<IceKind, const char*> kIceNames[] = {
     {IceKind::LeadingEdge, "leading-edge"}, {IceKind::GlazeAll, "glaze-all"}, {IceKind::Patches, "patches"},
-    {IceKind::Bead, "bead"}, {IceKind::BeadGlaze, "bead-glaze"}, {IceKind::Ridges, "ridges"}};
+    {IceKind::Bead, "bead"}, {IceKind::BeadGlaze, "bead-glaze"}, {IceKind::Ridges, "ridges"},
+    {IceKind::Shed, "shed"}};
 constexpr std::pair<MotionKind, const char*> kMotionNames[] = {{MotionKind::None, "none"}, {MotionKind::Small, "small"},
                                                               {MotionKind::Large, "large"}};
 constexpr std::pair<Background, const char*> kBackgroundNames[] = {{Background::Sky, "sky"},

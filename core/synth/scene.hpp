@@ -27,6 +27,7 @@ enum class IceKind {
                   // the outline the camera sees
     BeadGlaze,    // the same bead over a thin glaze across the whole visible surface
     Ridges,       // a few narrow, steep ridges along the span behind the leading edge (runback ice)
+    Shed,         // sheets of one thickness left after part of the ice shed, each ending in a sharp step
 };
 
 // How the object moved between the captures.
