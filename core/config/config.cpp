@@ -98,6 +98,8 @@ void readVolume(Section s, volume::Parameters& v) {
     s.read("subpixel_bias_px", v.subpixelBiasPx, 0.0, 1.0);
     s.read("track_bias_px", v.trackBiasPx, 0.0, 1.0);
     s.read("edge_uncertainty_px", v.edgeUncertaintyPx, 0.0, 10.0);
+    s.read("facing_fattening_px", v.facingFatteningPx, 0.0, 20.0);
+    s.read("fattening_separable_step_px", v.fatteningSeparableStepPx, 0.0, 20.0);
     s.read("scale_uncertainty_percent", v.scaleUncertaintyPercent, 0.0, 50.0);
     s.read("coverage_factor", v.coverageFactor, 1.0, 5.0);
     s.read("min_valid_percent", v.minValidPercent, 0.0, 100.0);

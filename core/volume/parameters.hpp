@@ -117,6 +117,16 @@ struct Parameters {
     // cause is not known), which moved a 97 609 mm³ blade's volume by up to 13 %.
     double trackBiasPx = 0.01;
     double edgeUncertaintyPx = 0.5; // where an edge of the ice is, ± this
+    // Facing the camera, a step of the ice too low for the slanted window's weights to see (its
+    // disparity under fatteningSeparableStepPx) still carries the ice's disparity over the clean
+    // surface beside it: within 5 px of such a step the surface read 20-37 % of the step too near,
+    // within 10 px 5-8 %, on rendered ice blocks of 10-31 mm and on sheets of ice left by
+    // shedding, each ending in a sharp step (2-12 mm): an error of 1.7-3.2 px times the steps'
+    // height and length, all of it high (blocks of 80 000-250 000 mm³ +6 to +22 %, sheets +7 to
+    // +26 %). Steps taller than this the windows' weights see: the error per px falls to 0.9 at
+    // 1.8 px and 0.3 at 2.6 px. σ, px, over the steps' height up to the separable one.
+    double facingFatteningPx = 2.0;
+    double fatteningSeparableStepPx = 1.5;
     // A share of the volume itself (1 σ): the depth scale (the calibration's focal length and
     // baseline) and the matcher's response on ice, whose aggregation rounds a layer off; on
     // rendered blades a thin glaze over the whole blade read up to 9 % short.

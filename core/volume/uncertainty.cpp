@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "core/volume/beyond_outline.hpp"
@@ -41,10 +42,13 @@ double registrationSigma(const cv::Vec6d& gradient, const MotionEstimate& motion
     return std::max(propagate(gradient, motion.covariance), std::sqrt(jackknifeVariance));
 }
 
-// ∫ max(0, |∇t| - median |∇t|) over the region, on the thickness averaged over 7 × 7 nodes.
-double edgeIntegral(const ThicknessMap& map) {
+// ∫ max(0, |∇t| - median |∇t|) over the region, on the thickness averaged over 7 × 7 nodes, the
+// thickness taken no higher than capMm (a step counts up to that height).
+double edgeIntegral(const ThicknessMap& map, double capMm = std::numeric_limits<double>::infinity()) {
     const GridSpec& grid = map.grid;
-    const cv::Mat smoothed = finiteBoxMean(map.thickness, 3);
+    cv::Mat capped = map.thickness.clone();
+    capped.forEach<double>([capMm](double& t, const int*) { t = t > capMm ? capMm : t; });  // NaN stays NaN
+    const cv::Mat smoothed = finiteBoxMean(capped, 3);
     std::vector<double> gradients;
     for (int j = 1; j + 1 < grid.nv; ++j)
         for (int i = 1; i + 1 < grid.nu; ++i) {
@@ -115,7 +119,11 @@ UncertaintyBudget volumeUncertainty(const ThicknessMap& map, const PlaneFrame& p
     // the matcher's value with its own, wider reach. Rime patches on a table seen at 45°, seeds
     // not in any table, read +13 to +52 %, every one high, at up to 0.85 of the uncertainty with
     // reach/√3 (seed 5: +52 %, of which the fattening term, then 51 503 mm³, carried the most).
-    b.fatteningMm3 = view.fatteningPx * pixelMm * edges;
+    // Facing the camera (and at an angle too, where its own reach is shorter) the steps that the
+    // windows' weights cannot see, up to the separable height (Parameters::facingFatteningPx).
+    const double separableMm = p.fatteningSeparableStepPx * depthPerPxMm;
+    b.fatteningMm3 = std::max(view.fatteningPx * pixelMm * edges,
+                              p.facingFatteningPx * pixelMm * edgeIntegral(map, separableMm));
     b.scaleMm3 = 0.01 * p.scaleUncertaintyPercent * std::abs(volumeMm3);
     // Beyond the outline no surface was seen under the ice: where it meets the object is taken
     // from the outline's nearest measurement, off the edge by the edge margin. One error for all.

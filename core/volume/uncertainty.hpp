@@ -16,7 +16,7 @@ struct UncertaintyBudget {
     double pushMm3 = 0;           // the matcher's change departing from the tracks' (matcher_push.hpp)
     double biasMm3 = 0;           // systematic sub-pixel disparity bias
     double edgeMm3 = 0;           // where the ice's edges are
-    double fatteningMm3 = 0;      // seen at an angle: the ice's nearer disparity carried over the surface behind it
+    double fatteningMm3 = 0;      // the ice's nearer disparity carried over the surface beside or behind it
     double outlineMm3 = 0;        // ice at the outline: the footing of what stands out of it, what may
                                   // stand out of it unseen (beyond_outline.hpp), and the matcher's
                                   // pull beside what stands out of it against featureless sky
@@ -59,7 +59,10 @@ struct ViewGeometry {
 //                 behind them, and a window centred on that surface takes the ice's nearer
 //                 disparity (foreground fattening): every edge may reach out by as much as
 //                 view.fatteningPx and, where the windows gave up beside the step, further: that
-//                 reach is the σ, on the same ∫|∇t|;
+//                 reach is the σ, on the same ∫|∇t|; facing the camera too, a step lower than
+//                 the windows' weights can see (fatteningSeparableStepPx) carries the ice's
+//                 disparity over the surface beside it: facingFatteningPx, on ∫|∇t| with the
+//                 thickness capped at that step's height; the larger of the two;
 //   scale         scale_uncertainty_percent of the volume;
 //   seen through  ice the object's texture was seen through may be up to n/(n − 1) times as thick as
 //                 stereo sees it (seenThroughSigmaMm3);

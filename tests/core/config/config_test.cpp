@@ -138,6 +138,8 @@ TEST(Config, ShippedFileDocumentsTheDefaults) {
     EXPECT_EQ(v.subpixelBiasPx, d.subpixelBiasPx);
     EXPECT_EQ(v.trackBiasPx, d.trackBiasPx);
     EXPECT_EQ(v.edgeUncertaintyPx, d.edgeUncertaintyPx);
+    EXPECT_EQ(v.facingFatteningPx, d.facingFatteningPx);
+    EXPECT_EQ(v.fatteningSeparableStepPx, d.fatteningSeparableStepPx);
     EXPECT_EQ(v.coverageFactor, d.coverageFactor);
     EXPECT_EQ(v.minValidPercent, d.minValidPercent);
     EXPECT_EQ(v.minMeanGrey, d.minMeanGrey);

@@ -22,6 +22,20 @@ ThicknessMap flatMap() {
     return map;
 }
 
+// Bare on the left half, heightMm of ice on the right: one straight step across the grid.
+ThicknessMap stepMap(double heightMm) {
+    ThicknessMap map = flatMap();
+    map.thickness.colRange(0, 10).setTo(0.0);
+    map.thickness.colRange(10, 20).setTo(heightMm);
+    return map;
+}
+
+PlaneFrame planeOneMetreAway() {
+    PlaneFrame plane;
+    plane.origin = {0, 0, 1000};
+    return plane;
+}
+
 // The outline tests' view: the plane 1 m away, 1 mm a pixel, an edge margin of 3 px and a footing
 // known to 1.5 mm.
 struct OutlineView {
@@ -53,22 +67,18 @@ TEST(VolumeUncertainty, ThePushCountsWithWhatIsNotKnownOfIt) {
                 std::hypot(0.01, 0.05) * depthPerPx * area, 1e-9);
 }
 
-// A band the camera did not see along its line of sight (behind a block's far edge seen at an
-// angle), bridged 6 mm above its least over 10 nodes: from the far surface to the near one, the
-// bridge the middle, uniformly. Where nothing was hidden the term is nothing.
 // A step 6 mm high across the grid (the rows the gradient is taken on: 8 of 2 mm), seen 1 m
 // away at 1 mm a pixel: an edge reaching out by 6 px, all of it as its σ (the error is all on one
 // side, and beside a step the matcher's wider reach may stand), is 6 mm of its 6 mm height along
-// 16 mm. Facing the camera (no reach) it counts nothing.
+// 16 mm. Facing the camera the windows' own reach is nothing, but a step as low as this one
+// (0.36 px) their weights do not see, and it reaches out by facingFatteningPx.
 TEST(VolumeUncertainty, AnEdgeSeenAtAnAngleMayReachOutAsFarAsTheWindows) {
-    ThicknessMap map = flatMap();
-    map.thickness.colRange(0, 10).setTo(0.0);
-    map.thickness.colRange(10, 20).setTo(6.0);
-    PlaneFrame plane;
-    plane.origin = {0, 0, 1000};
-    Parameters p;
+    const ThicknessMap map = stepMap(6.0);
+    const PlaneFrame plane = planeOneMetreAway();
+    const Parameters p;
     ViewGeometry view{1000.0, 60.0, 1000.0};
-    EXPECT_EQ(volumeUncertainty(map, plane, {}, {}, view, p, 800.0).fatteningMm3, 0.0);
+    EXPECT_NEAR(volumeUncertainty(map, plane, {}, {}, view, p, 800.0).fatteningMm3, p.facingFatteningPx * 6.0 * 16.0,
+                0.05 * p.facingFatteningPx * 6.0 * 16.0);
     view.fatteningPx = 6.0;
     const UncertaintyBudget b = volumeUncertainty(map, plane, {}, {}, view, p, 800.0);
     EXPECT_NEAR(b.fatteningMm3, 6.0 * 6.0 * 16.0, 0.05 * 6.0 * 6.0 * 16.0);
@@ -79,6 +89,24 @@ TEST(VolumeUncertainty, AnEdgeSeenAtAnAngleMayReachOutAsFarAsTheWindows) {
     EXPECT_GT(expandedUncertainty(b, 2.0), expandedUncertainty(without, 2.0));
 }
 
+// Facing the camera a step tall enough for the windows' weights to see (60 mm: 3.6 px here) counts
+// only up to the separable step (1.5 px: 25 mm); the edge term still counts all of it.
+TEST(VolumeUncertainty, AFacingStepCountsItsFatteningOnlyUpToTheSeparableHeight) {
+    const ThicknessMap map = stepMap(60.0);
+    const PlaneFrame plane = planeOneMetreAway();
+    Parameters p;
+    const ViewGeometry view{1000.0, 60.0, 1000.0};
+    const double separableMm = p.fatteningSeparableStepPx * 1000.0 * 1000.0 / (1000.0 * 60.0);
+    const UncertaintyBudget b = volumeUncertainty(map, plane, {}, {}, view, p, 800.0);
+    EXPECT_NEAR(b.fatteningMm3, p.facingFatteningPx * separableMm * 16.0, 0.05 * p.facingFatteningPx * separableMm * 16.0);
+    EXPECT_NEAR(b.edgeMm3, p.edgeUncertaintyPx * 60.0 * 16.0, 0.05 * p.edgeUncertaintyPx * 60.0 * 16.0);
+    p.facingFatteningPx = 0.0;
+    EXPECT_EQ(volumeUncertainty(map, plane, {}, {}, view, p, 800.0).fatteningMm3, 0.0);
+}
+
+// A band the camera did not see along its line of sight (behind a block's far edge seen at an
+// angle), bridged 6 mm above its least over 10 nodes: from the far surface to the near one, the
+// bridge the middle, uniformly. Where nothing was hidden the term is nothing.
 TEST(VolumeUncertainty, ABandHiddenAlongTheLineOfSightCountsFromTheFarSurfaceToTheNearOne) {
     ThicknessMap map = flatMap();
     PlaneFrame plane;
