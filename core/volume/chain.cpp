@@ -487,6 +487,9 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
             // A segmented region may hold featureless sky the matcher filled with the object's depth.
             return refused(result, *problem + (baseline.roiSegmented ? std::string(kNoOutlineHint) : ""));
         }
+        if (surface == &current) {
+            if (auto problem = newSaturationProblem(baseline.quality, current.quality, p)) return refused(result, *problem);
+        }
         if (surface->validPercent < p.minValidPercent) {
             std::ostringstream reason;
             reason.precision(3);

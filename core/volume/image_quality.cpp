@@ -45,4 +45,17 @@ std::optional<std::string> imageProblem(const ImageQuality& q, const Parameters&
     return reason.str();
 }
 
+std::optional<std::string> newSaturationProblem(const ImageQuality& baseline, const ImageQuality& current,
+                                                const Parameters& p) {
+    const double added = current.saturatedPercent - baseline.saturatedPercent;
+    if (added <= p.maxNewSaturatedPercent) return std::nullopt;
+    std::ostringstream reason;
+    reason.precision(3);
+    reason << "current image saturated over " << current.saturatedPercent << " % of the region, " << added
+           << " % more than the baseline (max " << p.maxNewSaturatedPercent
+           << " %): ice or the light on it clipped white there, its surface cannot be measured (a shorter "
+              "exposure, or a duller light, keeps it)";
+    return reason.str();
+}
+
 }  // namespace icewatch::volume

@@ -26,4 +26,9 @@ ImageQuality measureImageQuality(const cv::Mat& grey, const cv::Mat& roi);
 std::optional<std::string> imageProblem(const ImageQuality& quality, const Parameters& parameters,
                                         const std::string& which);
 
+// Why the current capture cannot be measured against the baseline, both measured over the same
+// region: clipped white over more of it than the baseline was (maxNewSaturatedPercent).
+std::optional<std::string> newSaturationProblem(const ImageQuality& baseline, const ImageQuality& current,
+                                                const Parameters& parameters);
+
 }  // namespace icewatch::volume

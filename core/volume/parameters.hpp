@@ -137,6 +137,11 @@ struct Parameters {
     double minValidPercent = 50;      // valid disparities in the region
     double minMeanGrey = 25;          // mean grey level in the region (0..255)
     double maxSaturatedPercent = 20;  // pixels at >= 250
+    // Clipped white where the baseline was not: ice (or the light on it) so bright that its texture
+    // is gone, and the matcher fills its surface in from around it. A bead of white ice under light
+    // 1.23 times the baseline's, 79 % of it clipped, read -58 % as ok within ±86 471 mm³ while the
+    // region stayed under maxSaturatedPercent (18.7 %). Percent of the region, current less baseline.
+    double maxNewSaturatedPercent = 5;
     double minContrast = 1.0;         // mean gradient magnitude in the region, grey levels per pixel
     int minPoints = 2000;             // points left to build each surface
     double maxFilledPercent = 40;     // grid area interpolated from no measurement at all

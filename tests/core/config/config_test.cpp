@@ -144,6 +144,7 @@ TEST(Config, ShippedFileDocumentsTheDefaults) {
     EXPECT_EQ(v.minValidPercent, d.minValidPercent);
     EXPECT_EQ(v.minMeanGrey, d.minMeanGrey);
     EXPECT_EQ(v.maxSaturatedPercent, d.maxSaturatedPercent);
+    EXPECT_EQ(v.maxNewSaturatedPercent, d.maxNewSaturatedPercent);
     EXPECT_EQ(v.minContrast, d.minContrast);
     EXPECT_EQ(v.minPoints, d.minPoints);
     EXPECT_EQ(v.maxFilledPercent, d.maxFilledPercent);

@@ -32,5 +32,23 @@ TEST(ImageQuality, ATexturelessCaptureIsRefusedHoweverBright) {
     EXPECT_NE(problem->find("current image blurred or without texture"), std::string::npos) << *problem;
 }
 
+// White ice clipped under a brighter light leaves no texture to match: refused when it covers more
+// of the region than the baseline's own clipping did, whatever the whole region's share.
+TEST(ImageQuality, ClippingTheBaselineDidNotHaveIsRefused) {
+    const Parameters p;
+    cv::Mat clean = texture(1.0), iced = clean.clone();
+    iced.rowRange(0, 12).setTo(255);  // 10 % of the region, under maxSaturatedPercent
+    const ImageQuality before = measureImageQuality(clean, {}), after = measureImageQuality(iced, {});
+    EXPECT_FALSE(imageProblem(after, p, "current").has_value());
+    const auto problem = newSaturationProblem(before, after, p);
+    ASSERT_TRUE(problem.has_value());
+    EXPECT_NE(problem->find("current image saturated over 10 % of the region"), std::string::npos) << *problem;
+    // Clipped alike in both captures (a lamp in the view) is the baseline's, not the ice's.
+    EXPECT_FALSE(newSaturationProblem(after, after, p).has_value());
+    cv::Mat glint = clean.clone();
+    glint.rowRange(0, 3).setTo(255);  // 2.5 %: highlights
+    EXPECT_FALSE(newSaturationProblem(before, measureImageQuality(glint, {}), p).has_value());
+}
+
 }  // namespace
 }  // namespace icewatch::volume
