@@ -51,6 +51,7 @@ nlohmann::json toJson(const CycleResult& r) {
         {"volume_mm3", optionalNumber(r.volumeMm3)},
         {"uncertainty_mm3", optionalNumber(r.uncertaintyMm3)},
         {"mean_thickness_mm", optionalNumber(r.meanThicknessMm)},
+        {"mean_thickness_uncertainty_mm", optionalNumber(r.meanThicknessUncertaintyMm)},
         {"max_thickness_mm", optionalNumber(r.maxThicknessMm)},
         {"ice_area_mm2", optionalNumber(r.iceAreaMm2)},
         {"beyond_outline_mm3", optionalNumber(r.beyondOutlineMm3)},

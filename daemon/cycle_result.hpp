@@ -40,6 +40,7 @@ struct CycleResult {
     std::optional<double> volumeMm3;
     std::optional<double> uncertaintyMm3;
     std::optional<double> meanThicknessMm;
+    std::optional<double> meanThicknessUncertaintyMm;
     std::optional<double> maxThicknessMm;
     std::optional<double> iceAreaMm2;        // where the thickness was integrated
     std::optional<double> beyondOutlineMm3;  // of the volume, ice standing out of the clean outline

@@ -385,7 +385,8 @@ std::optional<CycleResult> Daemon::runCycle() {
     CycleResult& r = outcome->result;
     switch (r.status) {
         case CycleStatus::Ok:
-            alarm_.measured(*r.volumeMm3, *r.meanThicknessMm, r.time);
+            alarm_.measured({*r.volumeMm3, *r.uncertaintyMm3, *r.meanThicknessMm, *r.meanThicknessUncertaintyMm},
+                            r.time);
             lastOk_ = r.time;
             break;
         // The gate said no: nothing was measured, so nothing may lower the level; only its age

@@ -40,7 +40,8 @@ CREATE TABLE IF NOT EXISTS results (
     alarm_reason TEXT,
     last_ok TEXT,
     ice_area_mm2 REAL,
-    beyond_outline_mm3 REAL
+    beyond_outline_mm3 REAL,
+    mean_thickness_uncertainty_mm REAL
 );
 CREATE INDEX IF NOT EXISTS results_time ON results(time_unix);
 )";
@@ -48,12 +49,13 @@ CREATE INDEX IF NOT EXISTS results_time ON results(time_unix);
 constexpr const char* kColumns =
     "schema, time, status, reason, volume_mm3, uncertainty_mm3, mean_thickness_mm, max_thickness_mm, "
     "valid_percent, alarm, camera, quality, timings_ms, version, config_sha256, alarm_reason, last_ok, "
-    "ice_area_mm2, beyond_outline_mm3";
+    "ice_area_mm2, beyond_outline_mm3, mean_thickness_uncertainty_mm";
 
 // Columns added since the first layout, with their types, which a history written before lacks
 // (its rows read null).
 constexpr std::pair<const char*, const char*> kAddedColumns[] = {
-    {"alarm_reason", "TEXT"}, {"last_ok", "TEXT"}, {"ice_area_mm2", "REAL"}, {"beyond_outline_mm3", "REAL"}};
+    {"alarm_reason", "TEXT"},       {"last_ok", "TEXT"}, {"ice_area_mm2", "REAL"}, {"beyond_outline_mm3", "REAL"},
+    {"mean_thickness_uncertainty_mm", "REAL"}};
 
 // Finalises a statement however the function is left.
 struct Statement {
@@ -95,7 +97,7 @@ std::string csvField(const nlohmann::json& value) {
 }
 
 const std::vector<std::string> kCsvColumns{"time",          "status",           "reason",           "volume_mm3",
-                                           "uncertainty_mm3", "mean_thickness_mm", "max_thickness_mm", "ice_area_mm2",
+                                           "uncertainty_mm3", "mean_thickness_mm", "mean_thickness_uncertainty_mm", "max_thickness_mm", "ice_area_mm2",
                                            "beyond_outline_mm3", "valid_percent", "alarm",           "camera",
                                            "quality",       "version",          "config_sha256"};
 
@@ -213,7 +215,7 @@ int History::insert(const CycleResult& r) {
     Statement s;
     const std::string sql = std::string("INSERT INTO results (time_unix, ") + kColumns +
                             ") VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16, ?17, "
-                            "?18, ?19, ?20)";
+                            "?18, ?19, ?20, ?21)";
     if (const int rc = sqlite3_prepare_v2(db_, sql.c_str(), -1, &s.stmt, nullptr); rc != SQLITE_OK) {
         log::get("history")->error("{}: cannot prepare insert: {}", file_.string(), sqlite3_errmsg(db_));
         return rc;
@@ -251,6 +253,7 @@ int History::insert(const CycleResult& r) {
     }
     bindOptional(s.stmt, 19, r.iceAreaMm2);
     bindOptional(s.stmt, 20, r.beyondOutlineMm3);
+    bindOptional(s.stmt, 21, r.meanThicknessUncertaintyMm);
     const int rc = sqlite3_step(s.stmt);
     if (rc != SQLITE_DONE) {
         log::get("history")->error("{}: cannot insert a row: {}", file_.string(), sqlite3_errmsg(db_));
@@ -290,7 +293,8 @@ std::vector<nlohmann::json> History::since(std::chrono::system_clock::time_point
     static const char* kNames[] = {"schema", "time",          "status",           "reason",           "volume_mm3",
                                    "uncertainty_mm3", "mean_thickness_mm", "max_thickness_mm", "valid_percent",
                                    "alarm",  "camera",        "quality",          "timings_ms",       "version",
-                                   "config_sha256", "alarm_reason", "last_ok", "ice_area_mm2", "beyond_outline_mm3"};
+                                   "config_sha256", "alarm_reason", "last_ok", "ice_area_mm2", "beyond_outline_mm3",
+                                   "mean_thickness_uncertainty_mm"};
     int rc = SQLITE_ROW;
     while ((rc = sqlite3_step(s.stmt)) == SQLITE_ROW) {
         nlohmann::json row = nlohmann::json::object();

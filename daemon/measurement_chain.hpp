@@ -29,6 +29,7 @@ struct ChainResult {
     double uncertaintyMm3 = 0.0;  // expanded: coverageFactor standard deviations
     double coverageFactor = 1.0;
     double meanThicknessMm = 0.0;
+    double meanThicknessUncertaintyMm = 0.0;  // expanded, as uncertaintyMm3
     double maxThicknessMm = 0.0;
     double iceAreaMm2 = 0.0;        // where thickness was integrated (possible ice, grown by the matcher's reach)
     double beyondOutlineMm3 = 0.0;  // of the volume, ice standing out of the clean blade's outline

@@ -155,6 +155,7 @@ std::optional<CycleOutcome> runMeasurementCycle(FrameSource& source, Measurement
     r.volumeMm3 = c.volumeMm3;
     r.uncertaintyMm3 = c.uncertaintyMm3;
     r.meanThicknessMm = c.meanThicknessMm;
+    r.meanThicknessUncertaintyMm = c.meanThicknessUncertaintyMm;
     r.maxThicknessMm = c.maxThicknessMm;
     r.iceAreaMm2 = c.iceAreaMm2;
     r.beyondOutlineMm3 = c.beyondOutlineMm3;

@@ -83,6 +83,7 @@ ChainResult VolumeMeasurementChain::estimate(StereoPair current) {
     r.uncertaintyMm3 = v.uncertaintyMm3;
     r.coverageFactor = coverageFactor_;
     r.meanThicknessMm = v.meanThicknessMm;
+    r.meanThicknessUncertaintyMm = v.meanThicknessUncertaintyMm;
     r.maxThicknessMm = v.maxThicknessMm;
     r.iceAreaMm2 = v.iceAreaMm2;
     r.beyondOutlineMm3 = v.beyondOutlineMm3;

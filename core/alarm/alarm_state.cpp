@@ -16,6 +16,15 @@ const char* toString(AlarmLevel level) {
     return "fault";
 }
 
+double judgedValue(const config::AlarmConfig& config, const Reading& reading) {
+    const bool thickness = config.metric == "mean_thickness_mm";
+    const double value = thickness ? reading.meanThicknessMm : reading.volumeMm3;
+    if (config.judge != "upper_bound") {
+        return value;
+    }
+    return value + (thickness ? reading.meanThicknessUncertaintyMm : reading.volumeUncertaintyMm3);
+}
+
 AlarmStateMachine::AlarmStateMachine(const config::AlarmConfig& config) : config_(config) {}
 
 void AlarmStateMachine::setConfig(const config::AlarmConfig& config) {
@@ -43,10 +52,10 @@ void AlarmStateMachine::enter(AlarmLevel level, TimePoint now) {
     }
 }
 
-AlarmLevel AlarmStateMachine::measured(double volumeMm3, double meanThicknessMm, TimePoint now) {
-    const double value = config_.metric == "mean_thickness_mm" ? meanThicknessMm : volumeMm3;
-    const bool first = !lastValue_.has_value();
-    lastValue_ = value;
+AlarmLevel AlarmStateMachine::measured(const Reading& reading, TimePoint now) {
+    const double value = judgedValue(config_, reading);
+    const bool first = !lastReading_.has_value();
+    lastReading_ = reading;
     faulted_ = false;
     faultReason_.clear();
     const AlarmLevel wanted = target(value);
@@ -70,8 +79,8 @@ AlarmLevel AlarmStateMachine::fault(const std::string& reason) {
 AlarmLevel AlarmStateMachine::reset(TimePoint now) {
     // An operator's reset releases the latch and the hold, not the physics: ice still above the
     // clear threshold keeps its level.
-    if (lastValue_) {
-        enter(target(*lastValue_), now);
+    if (lastReading_) {
+        enter(target(judgedValue(config_, *lastReading_)), now);
     }
     return level();
 }

@@ -196,6 +196,7 @@ void readDaemon(Section s, DaemonConfig& daemon) {
 
 void readAlarm(Section s, AlarmConfig& alarm) {
     s.readChoice("metric", alarm.metric, {"volume_mm3", "mean_thickness_mm"});
+    s.readChoice("judge", alarm.judge, {"estimate", "upper_bound"});
     s.read("warning_set", alarm.warningSet, 0.0, 1e12);
     s.read("warning_clear", alarm.warningClear, 0.0, 1e12);
     s.read("alarm_set", alarm.alarmSet, 0.0, 1e12);

@@ -71,6 +71,9 @@ int maxRefusedS(const DaemonConfig& daemon);
 // Levels none / warning / alarm on one metric, each with set and clear thresholds (hysteresis).
 struct AlarmConfig {
     std::string metric = "volume_mm3";   // volume_mm3 or mean_thickness_mm
+    // estimate: the levels follow the measured value. upper_bound: the value plus its expanded
+    // uncertainty, so that ice the measurement cannot rule out raises the level too.
+    std::string judge = "estimate";
     double warningSet = 50000.0;         // in the metric's unit
     double warningClear = 30000.0;
     double alarmSet = 200000.0;

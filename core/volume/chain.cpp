@@ -131,7 +131,8 @@ cv::Mat placedInFrame(const cv::Mat& image, const cv::Rect& window, cv::Size fra
 VolumeResult refused(VolumeResult result, const std::string& reason) {
     result.ok = false;
     result.reason = reason;
-    result.volumeMm3 = result.uncertaintyMm3 = result.meanThicknessMm = result.maxThicknessMm = 0;
+    result.volumeMm3 = result.uncertaintyMm3 = result.meanThicknessMm = result.meanThicknessUncertaintyMm = 0;
+    result.maxThicknessMm = 0;
     return result;
 }
 
@@ -638,6 +639,7 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
                                       {impl_->focalPx, impl_->baselineMm, depthMm, fatteningPx}, p,
                                       result.volumeMm3, seen);
     result.uncertaintyMm3 = expandedUncertainty(result.budget, p.coverageFactor);
+    result.meanThicknessUncertaintyMm = ice.areaMm2 > 0 ? result.uncertaintyMm3 / ice.areaMm2 : 0.0;
     timer.lap("uncertainty");
     if (auto problem = outlineObliquityProblem(map, plane, result, p)) return refused(result, *problem);
 

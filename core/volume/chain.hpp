@@ -63,6 +63,7 @@ struct VolumeResult {
     double uncertaintyMm3 = 0;  // expanded (coverageFactor · σ)
     UncertaintyBudget budget;   // 1-σ parts
     double meanThicknessMm = 0;  // volume / area of the region (what the alarms compare)
+    double meanThicknessUncertaintyMm = 0;  // the expanded uncertainty over the same area
     double maxThicknessMm = 0;   // of the locally averaged thickness map
     double areaMm2 = 0;          // of the region on the object's plane
     int pointsUsed = 0;          // current points that built the surface

@@ -32,7 +32,7 @@ TEST(CliCommands, HistoryAsJsonLinesAndCsv) {
     ASSERT_EQ(csv.status, 0) << csv.err;
     EXPECT_EQ(csv.out.substr(0, csv.out.find('\n')), historyCsvHeader());
     EXPECT_EQ(std::count(csv.out.begin(), csv.out.end(), '\n'), 4);
-    EXPECT_NE(csv.out.find("2026-01-01T00:20:00Z,ok,,1000.0,50.0,1.0,3.0,1000.0,100.0,90.0,alarm,ok,,test-version,cafe"), std::string::npos)
+    EXPECT_NE(csv.out.find("2026-01-01T00:20:00Z,ok,,1000.0,50.0,1.0,0.05,3.0,1000.0,100.0,90.0,alarm,ok,,test-version,cafe"), std::string::npos)
         << csv.out;
 
     auto bad = icewatch::test::runProgram({icewatchBin(), "history", "--state-dir", stateDir, "--since", "soon"});

@@ -166,6 +166,20 @@ TEST(Daemon, GpioFollowsAnIceSeriesWithHysteresis) {
     EXPECT_TRUE(*closed) << "the camera is released on shutdown";
 }
 
+TEST(Daemon, AnAlarmJudgedOnTheUpperBoundCountsWhatTheReadingCannotRuleOut) {
+    // 120 ± 90: a warning on the estimate, an alarm on what may be there (alarm_set 200).
+    for (const std::string judge : {"estimate", "upper_bound"}) {
+        Rig rig([&](config::Config& c) { c.alarm.judge = judge; }, icewatch::test::freshTempDir(),
+                [](ScriptedChain& c) { c.script = [](int, const StereoPair&) { return okResult(120.0, 90.0, 2.0); }; });
+        rig.daemon->runUntil(rig.at(1));
+        const nlohmann::json doc = rig.latestFile();
+        EXPECT_EQ(doc["alarm"], judge == "estimate" ? "warning" : "alarm") << judge;
+        EXPECT_EQ(doc["volume_mm3"], 120.0);
+        EXPECT_EQ(doc["uncertainty_mm3"], 90.0);
+        EXPECT_EQ(doc["mean_thickness_uncertainty_mm"], 1.5);
+    }
+}
+
 TEST(Daemon, CameraUnpluggedMidCycleThenPluggedBack) {
     Rig rig({}, icewatch::test::freshTempDir(), [](ScriptedChain& c) {
         c.script = [](int, const StereoPair&) { return okResult(50.0); };

@@ -76,6 +76,7 @@ ChainResult okResult(double volumeMm3, double uncertaintyMm3, double meanThickne
     r.volumeMm3 = volumeMm3;
     r.uncertaintyMm3 = uncertaintyMm3;
     r.meanThicknessMm = meanThicknessMm;
+    r.meanThicknessUncertaintyMm = meanThicknessMm * uncertaintyMm3 / volumeMm3;  // over the same area
     r.maxThicknessMm = 3 * meanThicknessMm;
     r.iceAreaMm2 = volumeMm3 / meanThicknessMm;
     r.beyondOutlineMm3 = 0.1 * volumeMm3;

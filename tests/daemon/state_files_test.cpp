@@ -102,6 +102,7 @@ TEST(History, RowsCarryTheResultFields) {
         r.volumeMm3 = 1234.5;
         r.uncertaintyMm3 = 50;
         r.meanThicknessMm = 1.5;
+        r.meanThicknessUncertaintyMm = 0.06;
         r.maxThicknessMm = 4;
         r.iceAreaMm2 = 823;
         r.beyondOutlineMm3 = 12.5;
@@ -121,6 +122,7 @@ TEST(History, RowsCarryTheResultFields) {
                   first.volumeMm3.reset();
                   first.uncertaintyMm3.reset();
                   first.meanThicknessMm.reset();
+                  first.meanThicknessUncertaintyMm.reset();
                   first.maxThicknessMm.reset();
                   first.iceAreaMm2.reset();
                   first.beyondOutlineMm3.reset();
@@ -130,12 +132,13 @@ TEST(History, RowsCarryTheResultFields) {
     EXPECT_EQ(rows[1], toJson(r));
     EXPECT_EQ(readOnly.since(testEpoch() + std::chrono::minutes(5), 10).size(), 1u);
     EXPECT_EQ(historyCsvHeader(),
-              "time,status,reason,volume_mm3,uncertainty_mm3,mean_thickness_mm,max_thickness_mm,ice_area_mm2,"
+              "time,status,reason,volume_mm3,uncertainty_mm3,mean_thickness_mm,mean_thickness_uncertainty_mm,"
+              "max_thickness_mm,ice_area_mm2,"
               "beyond_outline_mm3,valid_percent,alarm,camera,quality,version,config_sha256");
     EXPECT_EQ(historyCsvLine(rows[0]),
-              "2026-01-01T00:00:00Z,refused,\"fog, \"\"thick\"\"\",,,,,,,,warning,degraded,low_contrast: frame 1 left: "
+              "2026-01-01T00:00:00Z,refused,\"fog, \"\"thick\"\"\",,,,,,,,,warning,degraded,low_contrast: frame 1 left: "
               "grey-level deviation 2.0 below 6.0,1.2.3,abc");
-    EXPECT_EQ(historyCsvLine(rows[1]).substr(0, 60), "2026-01-01T00:10:00Z,ok,,1234.5,50.0,1.5,4.0,823.0,12.5,88.0");
+    EXPECT_EQ(historyCsvLine(rows[1]).substr(0, 65), "2026-01-01T00:10:00Z,ok,,1234.5,50.0,1.5,0.06,4.0,823.0,12.5,88.0");
     EXPECT_THROW(History(dir / "missing.sqlite", History::Mode::ReadOnly), Error);
 }
 
@@ -170,12 +173,15 @@ TEST(History, AHistoryOfTheFirstLayoutGainsTheNewColumns) {
     EXPECT_EQ(rows[1]["alarm_reason"], "no ok result since 2026-01-01T00:00:00Z");
     EXPECT_EQ(rows[1]["last_ok"], "2026-01-01T00:00:00Z");
     EXPECT_TRUE(rows[0]["ice_area_mm2"].is_null());
+    EXPECT_TRUE(rows[0]["mean_thickness_uncertainty_mm"].is_null());
     // The added figures are numbers in the old file too, not the text an untyped column would keep.
     r.time += std::chrono::minutes(10);
     r.status = CycleStatus::Ok;
     r.iceAreaMm2 = 823.5;
+    r.meanThicknessUncertaintyMm = 0.25;
     ASSERT_TRUE(history.append(r));
     EXPECT_EQ(history.since(testEpoch(), 10)[2]["ice_area_mm2"], 823.5);
+    EXPECT_EQ(history.since(testEpoch(), 10)[2]["mean_thickness_uncertainty_mm"], 0.25);
 }
 
 }  // namespace

@@ -262,6 +262,7 @@ void addVolumeCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunctio
                                                  {"seen_through", r.budget.seenThroughMm3},
                                                  {"hidden", r.budget.hiddenMm3}};
                 out["mean_thickness_mm"] = r.meanThicknessMm;
+                out["mean_thickness_uncertainty_mm"] = r.meanThicknessUncertaintyMm;
                 out["max_thickness_mm"] = r.maxThicknessMm;
                 out["area_mm2"] = r.areaMm2;
                 out["ice_area_mm2"] = r.iceAreaMm2;

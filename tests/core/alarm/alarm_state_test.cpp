@@ -62,6 +62,44 @@ TEST(AlarmState, ThicknessMetricIgnoresVolume) {
     EXPECT_EQ(m.measured(0, 6, kT0 + minutes(20)), AlarmLevel::Alarm);
 }
 
+TEST(AlarmState, TheUpperBoundCountsIceTheReadingCannotRuleOut) {
+    // A single frame of a small bead on a turned blade: -65 805 ± 340 509 mm3 (README).
+    const Reading wide{-65805, 340509, -0.4, 2.1};
+    auto c = volumeConfig();
+    c.warningSet = 50000;
+    c.warningClear = 30000;
+    c.alarmSet = 200000;
+    c.alarmClear = 150000;
+    EXPECT_EQ(AlarmStateMachine(c).measured(wide, kT0), AlarmLevel::None);
+    c.judge = "upper_bound";
+    EXPECT_DOUBLE_EQ(judgedValue(c, wide), 274704);
+    AlarmStateMachine m(c);
+    EXPECT_EQ(m.measured(wide, kT0), AlarmLevel::Alarm);
+    // A narrow reading of the same estimate stays clear: only what may be there counts.
+    EXPECT_EQ(m.measured({-65805, 20000, -0.4, 0.1}, kT0 + minutes(10)), AlarmLevel::None);
+    // The thickness metric adds its own uncertainty, never the volume's.
+    c.metric = "mean_thickness_mm";
+    c.warningSet = 2;
+    c.warningClear = 1;
+    c.alarmSet = 5;
+    c.alarmClear = 4;
+    EXPECT_DOUBLE_EQ(judgedValue(c, wide), 1.7);
+    EXPECT_EQ(AlarmStateMachine(c).measured({1e9, 1e9, 1.5, 0.6}, kT0), AlarmLevel::Warning);
+}
+
+TEST(AlarmState, AResetJudgesTheLastReadingUnderTheConfigOfTheMoment) {
+    auto c = volumeConfig();
+    c.latch = true;
+    AlarmStateMachine m(c);
+    EXPECT_EQ(m.measured({150, 100, 0, 0}, kT0), AlarmLevel::Warning);
+    c.judge = "upper_bound";
+    m.setConfig(c);
+    EXPECT_EQ(m.reset(kT0 + minutes(1)), AlarmLevel::Alarm);
+    c.judge = "estimate";
+    m.setConfig(c);
+    EXPECT_EQ(m.reset(kT0 + minutes(2)), AlarmLevel::Warning);
+}
+
 TEST(AlarmState, HoldTimeDelaysLoweringButNotRaising) {
     auto c = volumeConfig();
     c.alarmHoldS = 3600;

@@ -88,6 +88,7 @@ TEST(Config, ShippedFileDocumentsTheDefaults) {
     EXPECT_EQ(shipped.daemon.health.minSharpness, defaults.daemon.health.minSharpness);
     EXPECT_EQ(shipped.daemon.health.minContrast, defaults.daemon.health.minContrast);
     EXPECT_EQ(shipped.alarm.metric, defaults.alarm.metric);
+    EXPECT_EQ(shipped.alarm.judge, defaults.alarm.judge);
     EXPECT_EQ(shipped.alarm.warningSet, defaults.alarm.warningSet);
     EXPECT_EQ(shipped.alarm.warningClear, defaults.alarm.warningClear);
     EXPECT_EQ(shipped.alarm.alarmSet, defaults.alarm.alarmSet);
@@ -192,6 +193,8 @@ TEST(Config, DaemonSectionsAreValidated) {
               "test.json: alarm.warning_clear: must be below warning_set (hysteresis)");
     EXPECT_EQ(errorOf(R"({"alarm": {"metric": "mass"}})"),
               "test.json: alarm.metric: must be one of mean_thickness_mm, volume_mm3, got \"mass\"");
+    EXPECT_EQ(errorOf(R"({"alarm": {"judge": "worst"}})"),
+              "test.json: alarm.judge: must be one of estimate, upper_bound, got \"worst\"");
     EXPECT_EQ(errorOf(R"({"daemon": {"burst_frames": 2, "min_frames": 3}})"),
               "test.json: daemon.min_frames: must not exceed burst_frames or baseline_frames");
     EXPECT_EQ(errorOf(R"({"daemon": {"health": {"min_contrast": -1}}})"),
@@ -201,8 +204,10 @@ TEST(Config, DaemonSectionsAreValidated) {
     EXPECT_EQ(errorOf(R"({"http": {"port": 70000}})"),
               "test.json: http.port: must be between 0 and 65535, got 70000");
     const Config c = parseConfig(R"({"alarm": {"metric": "mean_thickness_mm", "warning_set": 2, "warning_clear": 1,
-        "alarm_set": 5, "alarm_clear": 4, "latch": true}, "http": {"token": "s3cret"}})", "test.json");
+        "alarm_set": 5, "alarm_clear": 4, "latch": true, "judge": "upper_bound"}, "http": {"token": "s3cret"}})",
+                                 "test.json");
     EXPECT_EQ(c.alarm.metric, "mean_thickness_mm");
+    EXPECT_EQ(c.alarm.judge, "upper_bound");
     EXPECT_EQ(c.alarm.alarmSet, 5.0);
     EXPECT_TRUE(c.alarm.latch);
     EXPECT_EQ(c.http.token, "s3cret");

@@ -52,6 +52,7 @@ TEST(VolumeChain, SmallBlockSceneEndToEnd) {
     EXPECT_LT(error, r.uncertaintyMm3);
     EXPECT_GT(r.pointsUsed, 10000);
     EXPECT_NEAR(r.meanThicknessMm, r.volumeMm3 / r.areaMm2, 1e-9);
+    EXPECT_NEAR(r.meanThicknessUncertaintyMm, r.uncertaintyMm3 / r.areaMm2, 1e-9);
 }
 
 // A baseline's surface carries what the estimate needs of it alone (BaselineModel), worked out once
