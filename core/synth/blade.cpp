@@ -49,6 +49,12 @@ double smoothstep(double e0, double e1, double x) {
 // stays on the blade.
 struct Patch {
     double centreXMm, centreChord, radiusXMm, radiusChord, height;
+
+    // A point's squared distance from the centre, in radii: 1 on the ellipse.
+    double distance2(double xMm, double chord) const {
+        const double dx = (xMm - centreXMm) / radiusXMm, dc = (chord - centreChord) / radiusChord;
+        return dx * dx + dc * dc;
+    }
 };
 
 // The bead's shape: how far it reaches over the suction side (mm, the same along the span, so it
@@ -139,8 +145,7 @@ public:
             case IceKind::Patches: {
                 double thickness = 0.0;
                 for (const Patch& p : patches_) {
-                    const double dx = (x - p.centreXMm) / p.radiusXMm, dc = (c - p.centreChord) / p.radiusChord;
-                    const double d2 = dx * dx + dc * dc;
+                    const double d2 = p.distance2(x, c);
                     // Flat-topped with a soft edge over the outer 40 % of the radius.
                     if (d2 < 1.0) thickness = std::max(thickness, p.height * (1.0 - smoothstep(0.6, 1.0, std::sqrt(d2))));
                 }
@@ -149,10 +154,9 @@ public:
             }
             case IceKind::Shed: {
                 for (const Patch& p : patches_) {
-                    const double dx = (x - p.centreXMm) / p.radiusXMm, dc = (c - p.centreChord) / p.radiusChord;
                     // Broken off along a jagged line: the radius wanders by a sixth on a scale of cm.
                     const double edge = 1.0 + 0.17 * fractalNoise(x, y, 12.0, 2, seed_ + 900);
-                    if (dx * dx + dc * dc < edge * edge) return 1.0;
+                    if (p.distance2(x, c) < edge * edge) return 1.0;
                 }
                 return 0.0;
             }
