@@ -44,11 +44,16 @@ struct CalibrationConfig {
     std::string file = "/etc/icewatch/calibration.yaml";
 };
 
-// The image-health check every burst frame passes before it is measured (daemon section).
+// The image-health check every burst frame passes before it is measured (daemon section). It
+// asks whether the camera saw anything at all; whether the object can be measured is the volume
+// gate's, on the object's region of the averaged capture (volume.max_saturated_percent,
+// max_new_saturated_percent, min_contrast). Whole-frame figures cannot judge the object: a sky
+// clipped behind a blade that is well exposed is most of the frame, and white ice on a blade
+// against a plain sky leaves a frame in focus as little detail as blur would.
 struct ImageHealthConfig {
     double minMeanLevel = 25.0;          // mean grey level (0-255) below this: dark
-    double maxSaturatedPercent = 20.0;   // share of pixels at 250 or more above this: saturated
-    double minSharpness = 5.0;           // variance of the Laplacian at 1/4 scale below this: blurred
+    double maxSaturatedPercent = 98.0;   // share of pixels at 250 or more above this: washed out
+    double minSharpness = 0.0;           // variance of the Laplacian at 1/4 scale below this: blurred (0: off)
     double minContrast = 6.0;            // standard deviation of grey below this: fog, droplets
 };
 

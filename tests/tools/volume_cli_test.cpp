@@ -1,6 +1,7 @@
 // icewatch synth and icewatch volume as a supervisor runs them: exit statuses and messages.
 #include <filesystem>
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -108,6 +109,29 @@ TEST(VolumeCli, ACaptureWithoutUsableFramesIsRefusedWithTheReason) {
     EXPECT_NE(reason.find("000001.jpg: left eye: 100.0 % of pixels saturated"), std::string::npos) << reason;
     EXPECT_EQ(out.at("current_capture").at("frames_dropped").size(), 2u);
     EXPECT_EQ(out.at("baseline_capture").at("frames_used"), 2);
+}
+
+// Brighter light that clips the sky behind the object but not the object: the frames are not
+// washed out, and whether the object can be measured is the region's gate to say. Refusing the
+// frames for their clipped share refused blocks and blades that measured inside their uncertainty.
+TEST(VolumeCli, ASkyClippedBehindTheObjectDoesNotDropTheFrames) {
+    const auto dir = test::freshTempDir() / "bright";
+    const auto rendered = synth(dir, {"--scene", "block", "--ice-volume-mm3", "417391", "--mode", "640x240",
+                                      "--supersampling", "1", "--frames", "2", "--light-change", "1.2"});
+    ASSERT_EQ(rendered.status, 0) << rendered.err;
+    const cv::Mat frame = cv::imread((dir / "after" / "000001.jpg").string(), cv::IMREAD_GRAYSCALE);
+    ASSERT_FALSE(frame.empty());
+    const cv::Mat leftEye = frame.colRange(0, frame.cols / 2);
+    const double clipped = 100.0 * cv::countNonZero(leftEye >= 250) / static_cast<double>(leftEye.total());
+    ASSERT_GT(clipped, 20.0) << "the scene must clip more than the frame check once allowed";
+
+    const auto r = runVolume(dir);
+    ASSERT_EQ(r.status, 0) << r.out << r.err;
+    const auto out = nlohmann::json::parse(r.out);
+    EXPECT_EQ(out.at("current_capture").at("frames_used"), 2);
+    EXPECT_TRUE(out.at("current_capture").at("frames_dropped").empty());
+    const double error = std::abs(out.at("volume_mm3").get<double>() - 417391.0);
+    EXPECT_LT(error, out.at("uncertainty_mm3").get<double>());
 }
 
 TEST(VolumeCli, CalibrationOfAnotherModeIsRefused) {
