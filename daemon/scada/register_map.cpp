@@ -77,6 +77,7 @@ RegisterImage imageOf(const nlohmann::json& document, bool alarmLatched, std::ui
     setFloat(image, kMaxThicknessRegister, field(document, "max_thickness_mm"));
     setUint32(image, kResultTimeRegister, unixSeconds(field(document, "time")));
     setUint32(image, kResultCountRegister, resultCount);
+    setFloat(image, kMeanThicknessUncertaintyRegister, field(document, "mean_thickness_uncertainty_mm"));
     return image;
 }
 

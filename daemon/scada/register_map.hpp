@@ -7,11 +7,13 @@
 
 namespace icewatch::daemon::scada {
 
-// The Modbus register map, version 1: a contract with SCADA integrators (README "SCADA
+// The Modbus register map, version 2: a contract with SCADA integrators (README "SCADA
 // integration"). Later versions only add addresses; the version register says which map it is.
 // Addresses are 0-based; 32-bit values take two registers, high word first; floats are IEEE 754
 // single precision.
-inline constexpr std::uint16_t kMapVersion = 1;
+// Version 2 added the mean thickness's uncertainty (registers 16-17), so that a client can judge
+// the thickness on what a reading cannot rule out, as the daemon's alarm.judge upper_bound does.
+inline constexpr std::uint16_t kMapVersion = 2;
 
 // Discrete inputs (function 02).
 enum DiscreteInput : int {
@@ -35,7 +37,8 @@ enum InputRegister : int {
     kMaxThicknessRegister = 10,
     kResultTimeRegister = 12,   // uint32 Unix seconds
     kResultCountRegister = 14,  // uint32 results published since the daemon started
-    kInputRegisterCount = 16,
+    kMeanThicknessUncertaintyRegister = 16,  // float32 mm, k = 2 (map version 2)
+    kInputRegisterCount = 18,
 };
 
 // Coils (functions 01, 05, 15), only with scada.modbus.allow_writes. Writing 1 asks; they read 0.

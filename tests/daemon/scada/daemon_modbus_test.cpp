@@ -76,15 +76,18 @@ TEST(ScadaCycle, ModbusRegistersEqualTheResultDocumentOfARealCycle) {
     ASSERT_EQ(latest["status"], "ok") << latest.dump(2);
     ASSERT_EQ(latest["alarm"], "alarm") << latest.dump(2);
     int failure = 0;
-    const auto registers = client.inputRegisters(0, 16, &failure);
-    ASSERT_EQ(registers.size(), 16u) << modbus_strerror(failure);
-    EXPECT_EQ(registers[kVersionRegister], 1);
+    const auto registers = client.inputRegisters(0, kInputRegisterCount, &failure);
+    ASSERT_EQ(registers.size(), 18u) << modbus_strerror(failure);
+    EXPECT_EQ(registers[kVersionRegister], 2);
     EXPECT_EQ(registers[kStatusRegister], 0);
     EXPECT_EQ(registers[kAlarmLevelRegister], 2);
     EXPECT_EQ(floatAt(registers, kVolumeRegister), latest["volume_mm3"].get<float>());
     EXPECT_EQ(floatAt(registers, kUncertaintyRegister), latest["uncertainty_mm3"].get<float>());
     EXPECT_EQ(floatAt(registers, kMeanThicknessRegister), latest["mean_thickness_mm"].get<float>());
     EXPECT_EQ(floatAt(registers, kMaxThicknessRegister), latest["max_thickness_mm"].get<float>());
+    EXPECT_EQ(floatAt(registers, kMeanThicknessUncertaintyRegister),
+              latest["mean_thickness_uncertainty_mm"].get<float>());
+    EXPECT_GT(floatAt(registers, kMeanThicknessUncertaintyRegister), 0.0f);
     EXPECT_GT(floatAt(registers, kVolumeRegister), 0.5f * 350000) << "a real measurement of the block";
     EXPECT_EQ(uint32At(registers, kResultTimeRegister), 1767226200u) << latest["time"];
     EXPECT_EQ(uint32At(registers, kResultCountRegister), 1u);

@@ -39,7 +39,7 @@ config::ModbusConfig loopback(bool allowWrites = false) {
 nlohmann::json resultDocument() {
     return {{"time", "2026-01-01T00:10:00Z"}, {"status", "ok"},         {"volume_mm3", 427174.25},
             {"uncertainty_mm3", 21000.5},     {"mean_thickness_mm", 3.75}, {"max_thickness_mm", nullptr},
-            {"alarm", "alarm"}};
+            {"mean_thickness_uncertainty_mm", 0.1875}, {"alarm", "alarm"}};
 }
 
 // A plain TCP connection, for what no Modbus client would send.
@@ -92,8 +92,8 @@ TEST(ModbusServer, ServesTheRegistersOfTheResultItWasShown) {
     ModbusClient client(server.port());
     int error = 0;
     const auto registers = client.inputRegisters(0, kInputRegisterCount, &error);
-    ASSERT_EQ(registers.size(), 16u) << modbus_strerror(error);
-    EXPECT_EQ(registers[0], 1) << "map version";
+    ASSERT_EQ(registers.size(), 18u) << modbus_strerror(error);
+    EXPECT_EQ(registers[0], 2) << "map version";
     EXPECT_EQ(registers[1], 0) << "status ok";
     EXPECT_EQ(registers[2], 2) << "alarm level alarm";
     EXPECT_FLOAT_EQ(floatAt(registers, 4), 427174.25f);
@@ -102,6 +102,7 @@ TEST(ModbusServer, ServesTheRegistersOfTheResultItWasShown) {
     EXPECT_TRUE(std::isnan(floatAt(registers, 10))) << "max thickness is null";
     EXPECT_EQ(uint32At(registers, 12), 1767226200u);
     EXPECT_EQ(uint32At(registers, 14), 7u);
+    EXPECT_FLOAT_EQ(floatAt(registers, 16), 0.1875f) << "mean thickness uncertainty";
     const auto inputs = client.discreteInputs(0, kDiscreteInputCount, &error);
     EXPECT_EQ(inputs, (std::vector<std::uint8_t>{1, 1, 0, 0, 1})) << modbus_strerror(error);
 }
@@ -111,9 +112,9 @@ TEST(ModbusServer, ReadsPastTheMapGetIllegalDataAddressAndTheConnectionStaysUsab
     ModbusServer server(loopback(), hooksFor(calls));
     ModbusClient client(server.port());
     int error = 0;
-    EXPECT_TRUE(client.inputRegisters(14, 4, &error).empty());
+    EXPECT_TRUE(client.inputRegisters(16, 4, &error).empty());
     EXPECT_EQ(error, EMBXILADD);
-    client.inputRegisters(16, 1, &error);
+    client.inputRegisters(18, 1, &error);
     EXPECT_EQ(error, EMBXILADD);
     client.discreteInputs(0, 6, &error);
     EXPECT_EQ(error, EMBXILADD);

@@ -18,6 +18,7 @@ nlohmann::json okDocument() {
             {"uncertainty_mm3", 21000.5},
             {"mean_thickness_mm", 3.75},
             {"max_thickness_mm", 12.5},
+            {"mean_thickness_uncertainty_mm", 0.1875},
             {"alarm", "warning"}};
 }
 
@@ -29,7 +30,7 @@ float floatAt(const RegisterImage& image, int address) {
 
 TEST(RegisterMap, ValuesOfAResult) {
     const RegisterImage image = imageOf(okDocument(), false, 0x12345678u);
-    EXPECT_EQ(image.registers[kVersionRegister], 1);
+    EXPECT_EQ(image.registers[kVersionRegister], 2);
     EXPECT_EQ(image.registers[kStatusRegister], 0);
     EXPECT_EQ(image.registers[kAlarmLevelRegister], 1);
     EXPECT_FLOAT_EQ(floatAt(image, kVolumeRegister), 427174.25f);
@@ -41,6 +42,7 @@ TEST(RegisterMap, ValuesOfAResult) {
     EXPECT_EQ(image.registers[kResultTimeRegister + 1], 0xBB58);
     EXPECT_EQ(image.registers[kResultCountRegister], 0x1234);
     EXPECT_EQ(image.registers[kResultCountRegister + 1], 0x5678);
+    EXPECT_FLOAT_EQ(floatAt(image, kMeanThicknessUncertaintyRegister), 0.1875f);
     EXPECT_EQ(image.inputs, (std::array<std::uint8_t, 5>{0, 1, 0, 1, 0}));
 }
 
@@ -56,12 +58,14 @@ TEST(RegisterMap, FloatsAreBigEndianIeee754) {
 TEST(RegisterMap, AbsentFiguresAreNaN) {
     nlohmann::json document = okDocument();
     document["status"] = "refused";
-    for (const char* key : {"volume_mm3", "uncertainty_mm3", "mean_thickness_mm", "max_thickness_mm"}) {
+    for (const char* key : {"volume_mm3", "uncertainty_mm3", "mean_thickness_mm", "max_thickness_mm",
+                            "mean_thickness_uncertainty_mm"}) {
         document[key] = nullptr;
     }
     const RegisterImage image = imageOf(document, false, 1);
     EXPECT_EQ(image.registers[kStatusRegister], 1);
-    for (int address : {kVolumeRegister, kUncertaintyRegister, kMeanThicknessRegister, kMaxThicknessRegister}) {
+    for (int address : {kVolumeRegister, kUncertaintyRegister, kMeanThicknessRegister, kMaxThicknessRegister,
+                        kMeanThicknessUncertaintyRegister}) {
         EXPECT_TRUE(std::isnan(floatAt(image, address))) << address;
     }
 }
@@ -94,10 +98,11 @@ TEST(RegisterMap, StatusAndAlarmCodes) {
 
 TEST(RegisterMap, BeforeTheFirstResultEverythingSaysFault) {
     const RegisterImage image = emptyImage();
-    EXPECT_EQ(image.registers[kVersionRegister], 1);
+    EXPECT_EQ(image.registers[kVersionRegister], 2);
     EXPECT_EQ(image.registers[kStatusRegister], 3);
     EXPECT_EQ(image.registers[kAlarmLevelRegister], 3);
     EXPECT_TRUE(std::isnan(floatAt(image, kVolumeRegister)));
+    EXPECT_TRUE(std::isnan(floatAt(image, kMeanThicknessUncertaintyRegister)));
     EXPECT_EQ(image.registers[kResultTimeRegister], 0);
     EXPECT_EQ(image.registers[kResultTimeRegister + 1], 0);
     EXPECT_EQ(image.registers[kResultCountRegister + 1], 0);
