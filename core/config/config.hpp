@@ -48,13 +48,14 @@ struct CalibrationConfig {
 // asks whether the camera saw anything at all; whether the object can be measured is the volume
 // gate's, on the object's region of the averaged capture (volume.max_saturated_percent,
 // max_new_saturated_percent, min_contrast). Whole-frame figures cannot judge the object: a sky
-// clipped behind a blade that is well exposed is most of the frame, and white ice on a blade
-// against a plain sky leaves a frame in focus as little detail as blur would.
+// clipped behind a blade that is well exposed is most of the frame, white ice on a blade against
+// a plain sky leaves a frame in focus as little detail as blur would, and a small blade against a
+// plain sky leaves the frame's grey varying as little as fog would.
 struct ImageHealthConfig {
     double minMeanLevel = 25.0;          // mean grey level (0-255) below this: dark
     double maxSaturatedPercent = 98.0;   // share of pixels at 250 or more above this: washed out
     double minSharpness = 0.0;           // variance of the Laplacian at 1/4 scale below this: blurred (0: off)
-    double minContrast = 6.0;            // standard deviation of grey below this: fog, droplets
+    double minContrast = 2.0;            // standard deviation of grey below this: blank (a covered lens, thick fog)
 };
 
 struct DaemonConfig {

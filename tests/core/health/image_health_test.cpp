@@ -65,6 +65,18 @@ TEST(ImageHealth, FogIsLowContrast) {
     EXPECT_GT(h.meanLevel, kLimits.minMeanLevel);
 }
 
+// A small object against a plain sky varies the frame's grey as little as fog does over a
+// textured view; the object's own region is judged on the averaged capture, so the frame stays.
+TEST(ImageHealth, ASmallObjectAgainstAPlainSkyIsNotFog) {
+    cv::Mat frame(240, 320, CV_8UC1);
+    cv::RNG rng(11);
+    rng.fill(frame, cv::RNG::NORMAL, 180, 1.5);  // the sky and the sensor's noise
+    rng.fill(frame(cv::Rect(130, 100, 60, 40)), cv::RNG::UNIFORM, 150, 210);  // the object, 3 % of it
+    const ImageHealth h = checkImageHealth(frame, kLimits);
+    EXPECT_LT(h.contrast, 6.0) << "as flat as the fog the frame check was once set for";
+    EXPECT_TRUE(h.ok()) << (h.problems.empty() ? "" : h.problems[0].reason);
+}
+
 TEST(ImageHealth, DropletsBlur) {
     // The textured scene seen through water: the detail is gone, the contrast (stretched back to
     // what the sharp scene had) is not.
