@@ -538,9 +538,11 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     const double overlap = (2.0 * p.trackRadiusPx + 1) / p.trackStepPx;
     evidence.fit.correlationFactor = std::max(1.0, overlap * overlap);
     const MotionEstimate motion = estimateMotion(tracks, plane, evidence);
+    int foundOnObject = 0;  // the object's texture found again, its look kept or not
     for (const TextureTrack& t : tracks) {
         if (t.state == TextureTrack::State::Unchanged) ++result.unchangedSamples;
         if (t.state == TextureTrack::State::Changed && t.onObject) ++result.changedSamples;
+        if (t.state != TextureTrack::State::Untracked && t.onObject) ++foundOnObject;
     }
     result.textureInliers = motion.objectEvidence;
     result.backgroundInliers = motion.backgroundEvidence;
@@ -548,7 +550,13 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     result.supportSpanPercent = motion.supportSpanPercent;
     timer.lap("register");
     if (!motion.ok) {
-        if (!current.regionHint.empty()) return refused(result, current.regionHint);
+        // The scene's shift said the object left the matched box; its texture found again where
+        // it was says it did not. A repeated texture (ridges of ice, the composite's grain along
+        // the span) gave a moved blade's shift a peak 241 px away, and the refusal then told the
+        // operator to take a new baseline when the light on the blade was what failed.
+        if (!current.regionHint.empty() && foundOnObject < p.minEvidenceSamples) {
+            return refused(result, current.regionHint);
+        }
         const std::string light =
             motion.objectLightShifted ? "" : objectLightNote(tracks, lightRatio, trackOptions.maxBrightnessChange);
         return refused(result, light.empty() ? motion.reason : motion.reason + "; " + light);

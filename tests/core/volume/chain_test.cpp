@@ -135,7 +135,8 @@ struct AveragedBlade {
 
 // The chain's parameters for a rendered blade, with the matcher given; `adjust` may change them.
 VolumeResult measureRenderedBlade(const synth::SyntheticScene& scene, stereo::Method method,
-                                  const std::function<void(Parameters&)>& adjust = {}) {
+                                  const std::function<void(Parameters&)>& adjust = {},
+                                  const std::function<void(Surface&)>& adjustCurrent = {}) {
     Parameters p = sgbmParameters(scene.roi);
     p.stereoMethod = method;
     p.maxDisparity = 128;
@@ -149,7 +150,8 @@ VolumeResult measureRenderedBlade(const synth::SyntheticScene& scene, stereo::Me
         return averageCapture(frames, {}, options).frame;
     };
     const Surface baseline = chain.measureSurface(average(scene.beforeJpeg));
-    const Surface current = chain.measureSurface(average(scene.afterJpeg), baseline);
+    Surface current = chain.measureSurface(average(scene.afterJpeg), baseline);
+    if (adjustCurrent) adjustCurrent(current);
     return chain.estimate(baseline, current);
 }
 
@@ -438,6 +440,28 @@ TEST(VolumeChain, GlazeOverEverythingOnAMovedBladeWithoutBackgroundIsRefused) {
             EXPECT_NE(r.reason.find("a layer of ice over all of it"), std::string::npos) << r.reason;
         }
     }
+}
+
+// A repeated texture (ridges of ice, the composite's grain along the span) can give the scene's
+// shift a far peak that puts the region out of the matched box and is not found there either
+// (a blade of ridges, moved far, at (-241, -8) px). Where the object's texture was then found
+// again where it was, it did not leave: the refusal is the registration's own, here the clear
+// glaze that brightened the blade's texture against its sky, not "take a new baseline".
+TEST(VolumeChain, AShiftTheTextureFoundInPlaceContradictsIsNotTheReason) {
+    synth::SceneSpec spec = smallBladeSpec();
+    spec.seed = 2;
+    spec.ice = synth::IceKind::GlazeAll;
+    spec.iceVolumeMm3 = 197717;
+    spec.motion = synth::MotionKind::Small;
+    spec.background = synth::Background::Sky;
+    const synth::SyntheticScene scene = synth::renderScene(spec);
+    const std::string moved = "the object moved 241 px (-241, -8.02) out of the region matched around the baseline's";
+    const VolumeResult r =
+        measureRenderedBlade(scene, stereo::Method::Paper, {}, [&](Surface& current) { current.regionHint = moved; });
+    ASSERT_FALSE(r.ok);
+    EXPECT_GE(r.unchangedSamples + r.changedSamples, 12) << "its texture was found again";
+    EXPECT_EQ(r.reason.find("out of the region matched"), std::string::npos) << r.reason;
+    EXPECT_NE(r.reason.find("a layer of ice over all of it"), std::string::npos) << r.reason;
 }
 
 // One frame per capture: the matcher's surface moves where the tracks say the clean surface did
