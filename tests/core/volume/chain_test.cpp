@@ -187,6 +187,17 @@ synth::SceneSpec smallBladeSpec() {
     return spec;
 }
 
+// A glaze over all of a blade against the sky that moved a little: nothing in view fixes its motion.
+synth::SceneSpec glazedMovedBladeSpec(std::uint32_t seed) {
+    synth::SceneSpec spec = smallBladeSpec();
+    spec.seed = seed;
+    spec.ice = synth::IceKind::GlazeAll;
+    spec.iceVolumeMm3 = 197717;
+    spec.motion = synth::MotionKind::Small;
+    spec.background = synth::Background::Sky;
+    return spec;
+}
+
 TEST(VolumeChain, AveragedIcedBladeIsMeasuredAndItsUncertaintyCoversTheError) {
     const AveragedBlade b = measureAveragedBlade(smallBladeSpec(), stereo::Method::Paper);
     ASSERT_NO_FATAL_FAILURE(expectMeasured(b, 0.15));
@@ -419,13 +430,7 @@ TEST(VolumeChain, WithoutAnOutlineABladeOnATableIsRefusedAndSaysToDrawIt) {
 // did not.
 TEST(VolumeChain, GlazeOverEverythingOnAMovedBladeWithoutBackgroundIsRefused) {
     for (const std::uint32_t seed : {1u, 2u}) {
-        synth::SceneSpec spec = smallBladeSpec();
-        spec.seed = seed;
-        spec.ice = synth::IceKind::GlazeAll;
-        spec.iceVolumeMm3 = 197717;
-        spec.motion = synth::MotionKind::Small;
-        spec.background = synth::Background::Sky;
-        const AveragedBlade b = measureAveragedBlade(spec, stereo::Method::Paper);
+        const AveragedBlade b = measureAveragedBlade(glazedMovedBladeSpec(seed), stereo::Method::Paper);
         const VolumeResult& r = b.result;
         // Never ok with an error outside the uncertainty: here nothing fixes the motion, so no.
         if (r.ok) {
@@ -448,13 +453,7 @@ TEST(VolumeChain, GlazeOverEverythingOnAMovedBladeWithoutBackgroundIsRefused) {
 // again where it was, it did not leave: the refusal is the registration's own, here the clear
 // glaze that brightened the blade's texture against its sky, not "take a new baseline".
 TEST(VolumeChain, AShiftTheTextureFoundInPlaceContradictsIsNotTheReason) {
-    synth::SceneSpec spec = smallBladeSpec();
-    spec.seed = 2;
-    spec.ice = synth::IceKind::GlazeAll;
-    spec.iceVolumeMm3 = 197717;
-    spec.motion = synth::MotionKind::Small;
-    spec.background = synth::Background::Sky;
-    const synth::SyntheticScene scene = synth::renderScene(spec);
+    const synth::SyntheticScene scene = synth::renderScene(glazedMovedBladeSpec(2));
     const std::string moved = "the object moved 241 px (-241, -8.02) out of the region matched around the baseline's";
     const VolumeResult r =
         measureRenderedBlade(scene, stereo::Method::Paper, {}, [&](Surface& current) { current.regionHint = moved; });
