@@ -353,8 +353,9 @@ Surface VolumeChain::Impl::measure(StereoPair raw, const Surface* baseline) {
             cv::warpAffine(s.leftGrey, movedBack, back, s.leftGrey.size(), cv::INTER_LINEAR, cv::BORDER_REFLECT);
             const double whereMoved = maskedCorrelation(baseline->leftGrey, movedBack, baseline->roi);
             if (inPlace < kLeftCorrelation && whereMoved >= kLeftCorrelation) s.regionProblem = *problem;
-            // Not found where the shift says either (a shift beyond the correlation's window): the
-            // reason to give should the registration find nothing to rest on.
+            // Not found where the shift says either (a shift beyond the correlation's window, or
+            // ice that changed the region's look): a guess, said beside the registration's reason
+            // should the registration find nothing to rest on.
             else if (inPlace < kLeftCorrelation) s.regionHint = *problem;
         }
     }
@@ -550,16 +551,19 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     result.supportSpanPercent = motion.supportSpanPercent;
     timer.lap("register");
     if (!motion.ok) {
-        // The scene's shift said the object left the matched box; its texture found again where
-        // it was says it did not. A repeated texture (ridges of ice, the composite's grain along
-        // the span) gave a moved blade's shift a peak 241 px away, and the refusal then told the
-        // operator to take a new baseline when the light on the blade was what failed.
-        if (!current.regionHint.empty() && foundOnObject < p.minEvidenceSamples) {
-            return refused(result, current.regionHint);
-        }
         const std::string light =
             motion.objectLightShifted ? "" : objectLightNote(tracks, lightRatio, trackOptions.maxBrightnessChange);
-        return refused(result, light.empty() ? motion.reason : motion.reason + "; " + light);
+        const std::string reason = light.empty() ? motion.reason : motion.reason + "; " + light;
+        // The scene's shift said the object left the matched box, and the region was not found
+        // there either: a guess, and one its texture found again where it was contradicts. A
+        // repeated texture (ridges of ice) gave a moved blade's shift a peak 241 px away, and the
+        // refusal told the operator to take a new baseline when the light on the blade was what
+        // failed; a blank blade under white ice, found neither in place nor 163 px away, was told
+        // it had moved out when nothing said how it moved.
+        if (!current.regionHint.empty() && foundOnObject < p.minEvidenceSamples) {
+            return refused(result, reason + "; or " + current.regionHint);
+        }
+        return refused(result, reason);
     }
     const RigidTransform& transform = motion.transform;
     result.registrationMm = cv::norm(transform.apply(plane.origin) - plane.origin);

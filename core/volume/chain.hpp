@@ -45,8 +45,8 @@ struct Surface {
     // The region was found by depth, no outline having been drawn (or kept from a baseline's).
     bool roiSegmented = false;
     // The scene's shift took the region out of the matched box but the region was not found there
-    // either: the reason given when the registration then finds no evidence, unless the object's
-    // texture was found again where it was.
+    // either: said beside the registration's reason when it then finds no evidence, unless the
+    // object's texture was found again where it was.
     std::string regionHint;
     // The scene's shift from the baseline it was measured against (phase correlation in the
     // baseline's region, px): the region check's and the trackers' start. Empty when measured alone.

@@ -463,6 +463,26 @@ TEST(VolumeChain, AShiftTheTextureFoundInPlaceContradictsIsNotTheReason) {
     EXPECT_NE(r.reason.find("a layer of ice over all of it"), std::string::npos) << r.reason;
 }
 
+// A nearly blank blade under a white bead over a glaze, moved far under brighter light: nothing
+// of its look is found again, in place or where the scene's shift (a far peak, some 170 px away)
+// puts it. The refusal says the motion is not observable, and the move out of the matched box
+// only as the guess it is.
+TEST(VolumeChain, AMoveOutTheRegionWasNotFoundAtIsSaidAsAGuess) {
+    synth::SceneSpec spec = smallBladeSpec();
+    spec.seed = 460;
+    spec.ice = synth::IceKind::BeadGlaze;
+    spec.iceVolumeMm3 = 197717;
+    spec.motion = synth::MotionKind::Large;
+    spec.lightChange = 1.18;
+    spec.textureContrast = 0.018;
+    spec.iceWhiteness = 0.94;
+    const AveragedBlade b = measureAveragedBlade(spec, stereo::Method::Paper);
+    const VolumeResult& r = b.result;
+    ASSERT_FALSE(r.ok);
+    EXPECT_EQ(r.reason.rfind("the motion between the captures is not observable", 0), 0u) << r.reason;
+    EXPECT_NE(r.reason.find("; or the object moved"), std::string::npos) << r.reason;
+}
+
 // One frame per capture: the matcher's surface moves where the tracks say the clean surface did
 // not (weak texture against the noise), and a budget that did not carry that push said ok at +25 %
 // against ±38 000 mm³ on this scene. Never ok with an error outside the uncertainty.
