@@ -468,12 +468,11 @@ TEST(VolumeChain, AShiftTheTextureFoundInPlaceContradictsIsNotTheReason) {
 // puts it. The refusal says the motion is not observable, and the move out of the matched box
 // only as the guess it is.
 TEST(VolumeChain, AMoveOutTheRegionWasNotFoundAtIsSaidAsAGuess) {
-    synth::SceneSpec spec = smallBladeSpec();
-    spec.seed = 460;
-    spec.ice = synth::IceKind::BeadGlaze;
-    spec.iceVolumeMm3 = 197717;
+    synth::SceneSpec spec = glazedMovedBladeSpec(460);
+    spec.ice = synth::IceKind::BeadGlaze;  // the white bead over the glaze
     spec.motion = synth::MotionKind::Large;
     spec.lightChange = 1.18;
+    // A composite nearly blank, under ice nearly white: none of its look is found again.
     spec.textureContrast = 0.018;
     spec.iceWhiteness = 0.94;
     const AveragedBlade b = measureAveragedBlade(spec, stereo::Method::Paper);
