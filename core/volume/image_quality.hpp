@@ -13,9 +13,10 @@ namespace icewatch::volume {
 struct ImageQuality {
     double meanGrey = 0;          // 0..255
     double saturatedPercent = 0;  // pixels at >= 250
-    // Mean gradient magnitude after a light blur, grey levels per pixel, read at the reference
-    // exposure when the region is dimmer (health::exposureScale): less light is not less texture
-    // to the matcher, whose costs compare grey levels relative to their neighbours.
+    // Mean gradient magnitude after a light blur, grey levels per pixel of an eye 1280 px wide
+    // (a wider one is reduced to it first), read at the reference exposure when the region is
+    // dimmer (health::exposureScale): less light is not less texture to the matcher, whose costs
+    // compare grey levels relative to their neighbours, and more pixels are not less texture.
     double contrast = 0;
 };
 

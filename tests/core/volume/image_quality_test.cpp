@@ -1,6 +1,7 @@
 #include "core/volume/image_quality.hpp"
 
 #include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
 
 namespace icewatch::volume {
 namespace {
@@ -22,6 +23,24 @@ TEST(ImageQuality, ContrastIsReadAtTheReferenceExposure) {
     // Above the reference level the figure is the image's own.
     const ImageQuality lit = measureImageQuality(texture(1.6), {});
     EXPECT_NEAR(lit.contrast, 1.6 * 110.0 / 128.0 * bright.contrast, 0.08 * lit.contrast);
+}
+
+// The same texture seen by a finer mode (3840x1080's eye is 1.5 times 2560x720's) spreads over
+// more pixels: read per pixel of the finer image it would look weaker by that ratio, and a blade
+// measured at 2560x720 was refused as without texture at 3840x1080.
+TEST(ImageQuality, TheSameTextureInAFinerModeReadsTheSame) {
+    cv::Mat noise(360, 640, CV_32F);
+    cv::RNG(5).fill(noise, cv::RNG::NORMAL, 0.0, 8.0);
+    cv::GaussianBlur(noise, noise, cv::Size(0, 0), 2.0);  // features of a few pixels, as a blade's
+    cv::Mat coarse;
+    cv::Mat(noise + 120.0).convertTo(coarse, CV_8U);
+    cv::Mat reference, finer;
+    cv::resize(coarse, reference, {1280, 720}, 0, 0, cv::INTER_CUBIC);  // the 2560x720 mode's eye
+    cv::resize(coarse, finer, {1920, 1080}, 0, 0, cv::INTER_CUBIC);     // the 3840x1080 mode's eye
+    const ImageQuality atReference = measureImageQuality(reference, {});
+    const ImageQuality atFiner = measureImageQuality(finer, {});
+    EXPECT_NEAR(atFiner.contrast, atReference.contrast, 0.05 * atReference.contrast)
+        << "reference " << atReference.contrast << ", finer " << atFiner.contrast;
 }
 
 TEST(ImageQuality, ATexturelessCaptureIsRefusedHoweverBright) {
