@@ -75,10 +75,23 @@ cv::Mat renderEye(const std::vector<Mesh>& meshes, const Shading& shading, const
             const auto* material = samples.material.ptr<int>(y);
             const auto* attributes = samples.attributes.ptr<VertexAttributes>(y);
             auto* out = fine.ptr<float>(y);
+            const auto* inverseDepth = samples.inverseDepth.ptr<float>(y);
             const float skyY = 1.0f - static_cast<float>(y) / view.size.height;
             for (int x = 0; x < view.size.width; ++x) {
                 const float skyX = static_cast<float>(x) / view.size.width;
-                out[x] = shadeSample(shading, material[x], attributes[x], skyX, skyY);
+                VertexAttributes a = attributes[x];
+                if (shading.shadows && material[x] >= 0) {
+                    // The sample's point on the surface, back through this eye's pinhole.
+                    const double z = 1.0 / inverseDepth[x];
+                    const cv::Vec3d p((x - view.cxPx) * z / view.fPx + view.centreXMm, (y - view.cyPx) * z / view.fPx, z);
+                    if (shading.shadows->lit(p) < 1.0f) {
+                        // In shadow only the ambient share of the light arrives, and nothing is mirrored.
+                        const auto ambient = static_cast<float>(shading.look.ambient);
+                        a[kAttributeShade] = std::min(a[kAttributeShade], ambient);
+                        a[kAttributeHighlight] = 0.0f;
+                    }
+                }
+                out[x] = shadeSample(shading, material[x], a, skyX, skyY);
             }
         }
     });

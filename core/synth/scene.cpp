@@ -9,7 +9,8 @@
 //   eye.cpp           each eye z-buffer rasterised (rasterizer.cpp) and shaded (shading.cpp) at
 //                     supersampling² samples per pixel, box-filtered down; the truth maps;
 //                     with refractive ice optics, what the eye sees under the ice (refraction.cpp);
-//                     with gloss, the highlights each eye sees (highlight.cpp)
+//                     with gloss, the highlights each eye sees (highlight.cpp); with shadows,
+//                     what the sun does not reach (shadow.cpp)
 //   sensor.cpp        per frame: the capture's gain, Gaussian sensor noise, 8 bits and JPEG, like
 //                     the camera's MJPEG stream
 //   scene_files.cpp   the scene directory
@@ -23,6 +24,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <iterator>
+#include <optional>
 #include <random>
 #include <vector>
 
@@ -34,6 +37,7 @@
 #include "core/synth/eye.hpp"
 #include "core/synth/flat_objects.hpp"
 #include "core/synth/sensor.hpp"
+#include "core/synth/shadow.hpp"
 
 namespace icewatch::synth {
 
@@ -95,8 +99,8 @@ Geometry bladeGeometry(const SceneSpec& spec, const Pose& before, const Pose& af
     }
     g.outline = bladeOutline(surface, before, 10);
     if (spec.background == Background::Table) {
-        g.before.push_back(tableMesh(-kTableBelowBladeMm, before, look));
-        g.after.push_back(tableMesh(-kTableBelowBladeMm, after, afterLook));
+        g.before.push_back(tableMesh(-kTableBelowBladeMm - spec.tableGapMm, before, look));
+        g.after.push_back(tableMesh(-kTableBelowBladeMm - spec.tableGapMm, after, afterLook));
     }
     return g;
 }
@@ -176,6 +180,12 @@ void checkSpec(const SceneSpec& spec) {
     }
     if (!overrideIn(spec.iceWhiteness, kMinIceWhiteness, kMaxIceWhiteness)) {
         throw InvalidInput("synthetic scene: the ice's whiteness must be between 0.4 and 1 (0: the seed's)");
+    }
+    if (!(spec.tableGapMm >= 0 && spec.tableGapMm <= kMaxTableGapMm)) {
+        throw InvalidInput("synthetic scene: the table's gap must be between 0 and 100 mm");
+    }
+    if (spec.tableGapMm > 0 && (spec.kind != SceneKind::Blade || spec.background != Background::Table)) {
+        throw InvalidInput("synthetic scene: the table's gap is a blade's on a table (a block sits on its plate)");
     }
     if (spec.kind == SceneKind::Block && spec.ice != IceKind::LeadingEdge) {
         throw InvalidInput("synthetic scene: the ice kind is the blade's; a block scene's ice is the block");
@@ -290,8 +300,21 @@ SyntheticScene renderScene(const SceneSpec& spec) {
     }
 
     const double clouds = spec.cloudDrift > 0 ? kCloudContrast : 0.0;
-    const Shading beforeShading{scene.look, spec.ice, spec.seed, clouds, 0.0};
-    const Shading afterShading{scene.look, spec.ice, spec.seed, clouds, spec.cloudDrift};
+    // Each capture's shadows fall from its own light; the table lies under everything and hides
+    // the light from nothing.
+    auto shadowsOf = [&spec](const std::vector<Mesh>& meshes, const Look& lit) -> std::optional<ShadowMap> {
+        if (!spec.shadows) return std::nullopt;
+        std::vector<Mesh> casters;
+        std::copy_if(meshes.begin(), meshes.end(), std::back_inserter(casters),
+                     [](const Mesh& m) { return m.material != kMaterialTable; });
+        return ShadowMap(casters, lit.towardsLight);
+    };
+    const std::optional<ShadowMap> beforeShadows = shadowsOf(geometry.before, scene.look);
+    const std::optional<ShadowMap> afterShadows = shadowsOf(geometry.after, afterLook);
+    const Shading beforeShading{scene.look, spec.ice, spec.seed, clouds, 0.0,
+                                beforeShadows ? &*beforeShadows : nullptr};
+    const Shading afterShading{scene.look, spec.ice, spec.seed, clouds, spec.cloudDrift,
+                               afterShadows ? &*afterShadows : nullptr};
     EyeTruth beforeTruth, afterTruth;
     auto light = [&](const std::vector<Mesh>& meshes, const Shading& shading, EyeTruth& truth) {
         const double b = spec.baselineMm;

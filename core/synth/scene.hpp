@@ -72,6 +72,7 @@ inline constexpr double kMaxLightTurnDeg = 60.0;
 inline constexpr double kMaxCloudDrift = 0.5;
 inline constexpr double kMaxGloss = 1.0;
 inline constexpr double kMaxTiltDeg = 45.0;
+inline constexpr double kMaxTableGapMm = 100.0;
 // The look's overrides (SceneSpec): what another renderer, or another blade, may show.
 inline constexpr double kMinTextureContrast = 0.005, kMaxTextureContrast = 0.3;
 inline constexpr double kMinTextureFeatureMm = 0.5, kMaxTextureFeatureMm = 50.0;
@@ -104,6 +105,14 @@ struct SceneSpec {
     // Wet ice mirrors this much of the light towards the eye at its highlight's peak (0: matte);
     // the blade's coat a third of it (highlight.hpp).
     double gloss = 0.0;
+    // The sun casts shadows (shadow.hpp): the object darkens the table or the plate beside it, and
+    // ice standing out darkens the surface behind it. Off: every surface sees the light, as a
+    // renderer without shadow rays draws it.
+    bool shadows = false;
+    // The blade rests this far above the table (mm): on trestles, or a whole airfoil lying on its
+    // lower surface, whose edges stand off the table by half its thickness. The outline is then a
+    // step down to the table, and a lit blade's shadow falls beside it. 0: it lies on the table.
+    double tableGapMm = 0.0;
     // The look the seed draws (look.hpp), overridden where set (0: the seed's): the composite's
     // texture amplitude (the seed's 0.027-0.05) and the size of its coarsest features (4.5-8.5 mm),
     // and the albedo of ice thick enough to hide what is under it (0.82-0.93).

@@ -57,6 +57,8 @@ nlohmann::json truthJson(const SyntheticScene& scene, const SceneSpec& spec) {
             {"tilt_deg", spec.tiltDeg},
             {"swing_deg", spec.swingDeg},
             {"cloud_drift", spec.cloudDrift},
+            {"shadows", spec.shadows},
+            {"table_gap_mm", spec.tableGapMm},
             {"motion_rotation_deg", vec3(scene.motion.rotationDeg)},
             {"motion_translation_mm", vec3(scene.motion.translationMm)},
             {"motion_pivot_mm", vec3(scene.motion.pivotMm)},

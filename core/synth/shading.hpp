@@ -7,6 +7,7 @@
 #include "core/synth/look.hpp"
 #include "core/synth/rasterizer.hpp"
 #include "core/synth/scene.hpp"
+#include "core/synth/shadow.hpp"
 
 namespace icewatch::synth {
 
@@ -19,6 +20,8 @@ struct Shading {
     // of the image's width, since the baseline.
     double cloudContrast = 0;
     double cloudShift = 0;
+    // Cast shadows of the capture's light (shadow.hpp); none: every surface sees the light.
+    const ShadowMap* shadows = nullptr;
 };
 
 // Light (0..1, before the camera's gain) of one sample from its material and its attributes

@@ -123,7 +123,7 @@ TEST(SynthCli, BadFrameCountIsAUsageError) {
 TEST(SynthCli, TruthRecordsEveryOption) {
     const fs::path dir = test::freshTempDir() / "scene";
     const auto r = synth(dir, {"--ice", "patches", "--motion", "none", "--background", "table", "--light-change", "0.85",
-                               "--truth-maps"});
+                               "--shadows", "--table-gap-mm", "6", "--truth-maps"});
     ASSERT_EQ(r.status, 0) << r.err;
     const nlohmann::json t = truth(dir);
     EXPECT_EQ(t["scene"], "blade");
@@ -131,6 +131,8 @@ TEST(SynthCli, TruthRecordsEveryOption) {
     EXPECT_EQ(t["motion"], "none");
     EXPECT_EQ(t["background"], "table");
     EXPECT_DOUBLE_EQ(t["light_change"].get<double>(), 0.85);
+    EXPECT_EQ(t["shadows"], true);
+    EXPECT_DOUBLE_EQ(t["table_gap_mm"].get<double>(), 6.0);
     EXPECT_EQ(t["frames"], 1);
     EXPECT_EQ(t["supersampling"], 1);
     EXPECT_EQ(t["mode"], "640x240");
@@ -150,7 +152,8 @@ TEST(SynthCli, BadOptionValuesAreUsageErrors) {
     const fs::path base = test::freshTempDir();
     const std::vector<std::vector<std::string>> bad{
         {"--ice", "frost"},          {"--motion", "huge"},        {"--background", "sea"},
-        {"--light-change", "0.1"},   {"--light-change", "3.5"},   {"--light-change", "bright"}};
+        {"--light-change", "0.1"},   {"--light-change", "3.5"},   {"--light-change", "bright"},
+        {"--table-gap-mm", "150"}};
     int k = 0;
     for (const auto& arguments : bad) {
         const fs::path dir = base / std::to_string(k++);

@@ -95,6 +95,8 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
         double textureContrast = 0.0;
         double textureFeatureMm = 0.0;
         double iceWhiteness = 0.0;
+        bool shadows = false;
+        double tableGapMm = 0.0;
         bool force = false;
         bool json = false;
     };
@@ -158,6 +160,13 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
                     "highlights: the peak of the light that wet ice mirrors towards the eye, 0..1 (the blade's coat "
                     "a third of it, rime none; 0: every surface matte); each eye sees a highlight at another place")
         ->check(CLI::Range(0.0, synth::kMaxGloss));
+    cmd->add_flag("--shadows", o->shadows,
+                  "the sun casts shadows: the object darkens the table or the plate beside it, ice standing out "
+                  "the surface behind it; shadows slide with the object and the light");
+    cmd->add_option("--table-gap-mm", o->tableGapMm,
+                    "on a table, the blade rests this far above it, 0..100 mm (on trestles, or a whole airfoil "
+                    "on its lower surface, its edges standing off the table): the outline steps down to the table")
+        ->check(CLI::Range(0.0, synth::kMaxTableGapMm));
     cmd->add_option("--texture-contrast", o->textureContrast,
                     "the blade's texture amplitude, a share of its albedo, 0.005..0.3 (default: the "
                     "seed's, 0.027..0.05: a weak composite texture; 0.3 is a speckle pattern)")
@@ -203,6 +212,8 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
             spec.swingDeg = o->swingDeg;
             spec.cloudDrift = o->cloudDrift;
             spec.gloss = o->gloss;
+            spec.shadows = o->shadows;
+            spec.tableGapMm = o->tableGapMm;
             spec.textureContrast = o->textureContrast;
             spec.textureFeatureMm = o->textureFeatureMm;
             spec.iceWhiteness = o->iceWhiteness;

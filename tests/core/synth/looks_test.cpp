@@ -406,6 +406,8 @@ TEST(SynthLooks, ImpossibleOptionsAreRefused) {
         {"texture contrast over 0.3", [](SceneSpec& s) { s.textureContrast = 0.5; }},
         {"texture features under 0.5 mm", [](SceneSpec& s) { s.textureFeatureMm = 0.1; }},
         {"ice whiter than white", [](SceneSpec& s) { s.iceWhiteness = 1.5; }},
+        {"a table gap of a negative height", [](SceneSpec& s) { s.tableGapMm = -1; }},
+        {"a table gap with no table", [](SceneSpec& s) { s.tableGapMm = 5; }},
     };
     for (const auto& [what, breakIt] : impossible) {
         SceneSpec spec = blade;
@@ -420,6 +422,10 @@ TEST(SynthLooks, ImpossibleOptionsAreRefused) {
         {"texture feature size", [](SceneSpec& s) { s.textureFeatureMm = 20; }},
         {"ice whiteness", [](SceneSpec& s) { s.iceWhiteness = 0.6; }},
         {"refractive ice", [](SceneSpec& s) { s.optics = IceOptics::Refractive; }},
+        {"a table gap", [](SceneSpec& s) {
+             s.background = Background::Table;
+             s.tableGapMm = 5;
+         }},
     };
     for (const auto& [what, setIt] : bladeOnly) {
         SceneSpec spec = block;
