@@ -152,6 +152,9 @@ void checkSpec(const SceneSpec& spec) {
     if (!(spec.lightChange >= kMinLightChange && spec.lightChange <= kMaxLightChange)) {
         throw InvalidInput("synthetic scene: light change must be between 0.2 and 3");
     }
+    if (!(spec.sunChange >= 0 && spec.sunChange <= kMaxSunChange)) {
+        throw InvalidInput("synthetic scene: the sun's change must be between 0 and 3");
+    }
     if (!(std::abs(spec.rollDeg) <= kMaxRollDeg)) {
         throw InvalidInput("synthetic scene: the object's roll must be between -180 and 180 degrees");
     }
@@ -287,6 +290,9 @@ SyntheticScene renderScene(const SceneSpec& spec) {
     Look afterLook = scene.look;
     const double turn = spec.lightTurnDeg / std::sqrt(2.0);
     afterLook.towardsLight = rotationFromDegrees({turn, turn, 0}) * scene.look.towardsLight;
+    // The sun's light, and what wet ice mirrors of it, change; the sky's light does not.
+    afterLook.diffuse = scene.look.diffuse * spec.sunChange;
+    afterLook.gloss = scene.look.gloss * spec.sunChange;
     const Geometry geometry = blade ? bladeGeometry(spec, before, after, scene.look, afterLook)
                                     : blockGeometry(spec, before, after, scene.look, afterLook);
     scene.iceVolumeMm3 = geometry.iceVolumeMm3;
@@ -313,7 +319,7 @@ SyntheticScene renderScene(const SceneSpec& spec) {
     const std::optional<ShadowMap> afterShadows = shadowsOf(geometry.after, afterLook);
     const Shading beforeShading{scene.look, spec.ice, spec.seed, clouds, 0.0,
                                 beforeShadows ? &*beforeShadows : nullptr};
-    const Shading afterShading{scene.look, spec.ice, spec.seed, clouds, spec.cloudDrift,
+    const Shading afterShading{afterLook, spec.ice, spec.seed, clouds, spec.cloudDrift,
                                afterShadows ? &*afterShadows : nullptr};
     EyeTruth beforeTruth, afterTruth;
     auto light = [&](const std::vector<Mesh>& meshes, const Shading& shading, EyeTruth& truth) {

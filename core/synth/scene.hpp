@@ -69,6 +69,7 @@ inline constexpr double kMaxRollDeg = 180.0;
 inline constexpr double kMinDistanceMm = 600.0;
 inline constexpr double kMaxDistanceMm = 1500.0;
 inline constexpr double kMaxLightTurnDeg = 60.0;
+inline constexpr double kMaxSunChange = 3.0;
 inline constexpr double kMaxCloudDrift = 0.5;
 inline constexpr double kMaxGloss = 1.0;
 inline constexpr double kMaxTiltDeg = 45.0;
@@ -93,6 +94,11 @@ struct SceneSpec {
     IceOptics optics = IceOptics::Painted;
     double lightChange = 1.0;  // the current capture's illumination over the baseline's
     double lightTurnDeg = 0.0; // the current capture's light direction turned by this (the sun moved)
+    // The current capture's direct light (the sun, a rig's lamps) over the baseline's, while the
+    // light of the sky (the ambient share, and the sky seen behind the object) stays as it was: the
+    // sun went behind a cloud (under 1) or came out (over 1). Unlike lightChange, a surface
+    // facing the sun changes more than one facing away, and the sky not at all.
+    double sunChange = 1.0;
     double distanceMm = 850.0;  // camera to object
     double rollDeg = 0.0;       // the object turned by this about the view axis (in the image)
     // The object turned out of the view: about the image's horizontal axis (tilt: seen from above

@@ -52,6 +52,7 @@ nlohmann::json truthJson(const SyntheticScene& scene, const SceneSpec& spec) {
             {"ice_optics", iceOpticsName(spec.optics)},
             {"light_change", spec.lightChange},
             {"light_turn_deg", spec.lightTurnDeg},
+            {"sun_change", spec.sunChange},
             {"distance_mm", spec.distanceMm},
             {"roll_deg", spec.rollDeg},
             {"tilt_deg", spec.tiltDeg},

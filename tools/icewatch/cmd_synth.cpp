@@ -97,6 +97,7 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
         double iceWhiteness = 0.0;
         bool shadows = false;
         double tableGapMm = 0.0;
+        double sunChange = 1.0;
         bool force = false;
         bool json = false;
     };
@@ -134,6 +135,10 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
     cmd->add_option("--light-change", o->lightChange,
                     "the current capture's illumination times this, 0.2..3 (saturates at white)")
         ->check(CLI::Range(synth::kMinLightChange, synth::kMaxLightChange));
+    cmd->add_option("--sun-change", o->sunChange,
+                    "the current capture's direct light (the sun, a rig's lamps) times this, 0..3, the sky's light "
+                    "unchanged: a surface facing the sun changes more than one facing away, the sky behind not at all")
+        ->check(CLI::Range(0.0, synth::kMaxSunChange));
     cmd->add_option("--light-turn", o->lightTurnDeg,
                     "the current capture's light direction turned by this many degrees (the sun moved across the sky "
                     "and in height: a curved surface's shading changes unevenly), 0..60")
@@ -214,6 +219,7 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
             spec.gloss = o->gloss;
             spec.shadows = o->shadows;
             spec.tableGapMm = o->tableGapMm;
+            spec.sunChange = o->sunChange;
             spec.textureContrast = o->textureContrast;
             spec.textureFeatureMm = o->textureFeatureMm;
             spec.iceWhiteness = o->iceWhiteness;

@@ -262,6 +262,31 @@ TEST(SynthLooks, LightChangeScalesTheCurrentCaptureOnly) {
     EXPECT_GT(cv::countNonZero(leftGrey(bright.after) == 255), 1000);
 }
 
+TEST(SynthLooks, TheSunBehindACloudDarkensTheObjectButNotTheSky) {
+    SceneSpec spec = smallBlade(IceKind::LeadingEdge, MotionKind::None);
+    const SyntheticScene normal = renderScene(spec);
+    spec.sunChange = 0.0;  // only the sky's light is left
+    const SyntheticScene clouded = renderScene(spec);
+    EXPECT_EQ(cv::norm(normal.before, clouded.before, cv::NORM_INF), 0.0);
+    const cv::Mat a = leftGrey(normal.after), b = leftGrey(clouded.after);
+    // The sky behind is as it was, to the encoding's rounding.
+    EXPECT_LE(std::abs(static_cast<int>(a.at<std::uint8_t>(4, 4)) - b.at<std::uint8_t>(4, 4)), 1);
+    // The blade keeps its ambient share of the light: darker by the diffuse share, unevenly over
+    // its curved surface (the parts facing the sun lose more), never brighter.
+    cv::Mat blade = normal.afterDisparity > 0;
+    cv::Mat ratio;
+    cv::divide(b, a, ratio, 1.0, CV_32F);
+    cv::Scalar mean, spread;
+    cv::meanStdDev(ratio, mean, spread, blade);
+    const Look look = normal.look;
+    EXPECT_LT(mean[0], 1.0 - 0.5 * look.diffuse);
+    EXPECT_GT(mean[0], look.ambient - 0.05);
+    EXPECT_GT(spread[0], 0.005);
+    double maxRatio = 0;
+    cv::minMaxLoc(ratio, nullptr, &maxRatio, nullptr, nullptr, blade);
+    EXPECT_LT(maxRatio, 1.0 + 1e-6);
+}
+
 TEST(SynthLooks, SeedsLookDifferentWithinPlausibleRanges) {
     double minContrast = 1, maxContrast = 0, minFeature = 100, maxFeature = 0, minLightX = 1, maxLightX = -1;
     for (std::uint32_t seed = 1; seed <= 30; ++seed) {
@@ -406,6 +431,7 @@ TEST(SynthLooks, ImpossibleOptionsAreRefused) {
         {"texture contrast over 0.3", [](SceneSpec& s) { s.textureContrast = 0.5; }},
         {"texture features under 0.5 mm", [](SceneSpec& s) { s.textureFeatureMm = 0.1; }},
         {"ice whiter than white", [](SceneSpec& s) { s.iceWhiteness = 1.5; }},
+        {"the sun brighter than three times", [](SceneSpec& s) { s.sunChange = 3.5; }},
         {"a table gap of a negative height", [](SceneSpec& s) { s.tableGapMm = -1; }},
         {"a table gap with no table", [](SceneSpec& s) { s.tableGapMm = 5; }},
     };
