@@ -43,6 +43,7 @@ namespace icewatch::synth {
 
 namespace {
 
+constexpr double kPi = 3.14159265358979323846;
 constexpr double kPlateRoiInsetMm = 25.0;
 // The blade lies flat side down on the table; the table sits a hair below so that the outline,
 // where the blade's surface meets it, never depends on the z-buffer's rounding.
@@ -151,6 +152,9 @@ void checkSpec(const SceneSpec& spec) {
     }
     if (!(spec.lightChange >= kMinLightChange && spec.lightChange <= kMaxLightChange)) {
         throw InvalidInput("synthetic scene: light change must be between 0.2 and 3");
+    }
+    if (!(spec.sunAngleDeg >= 0 && spec.sunAngleDeg <= kMaxSunAngleDeg)) {
+        throw InvalidInput("synthetic scene: the sun's angle from the view must be between 0 and 80 degrees");
     }
     if (!(spec.sunChange >= 0 && spec.sunChange <= kMaxSunChange)) {
         throw InvalidInput("synthetic scene: the sun's change must be between 0 and 3");
@@ -263,6 +267,12 @@ SyntheticScene renderScene(const SceneSpec& spec) {
     if (spec.textureContrast > 0) scene.look.compositeContrast = spec.textureContrast;
     if (spec.textureFeatureMm > 0) scene.look.compositeFeatureMm = spec.textureFeatureMm;
     if (spec.iceWhiteness > 0) scene.look.iceWhiteness = spec.iceWhiteness;
+    if (spec.sunAngleDeg > 0) {
+        const cv::Vec3d& l = scene.look.towardsLight;
+        const double azimuth = std::atan2(l[1], l[0]), angle = spec.sunAngleDeg * kPi / 180.0;
+        scene.look.towardsLight = {std::sin(angle) * std::cos(azimuth), std::sin(angle) * std::sin(azimuth),
+                                   -std::cos(angle)};
+    }
 
     // Nearly fronto-parallel, tilted by a few degrees so the surface spans a range of disparities.
     const bool blade = spec.kind == SceneKind::Blade;

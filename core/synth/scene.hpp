@@ -70,6 +70,7 @@ inline constexpr double kMinDistanceMm = 600.0;
 inline constexpr double kMaxDistanceMm = 1500.0;
 inline constexpr double kMaxLightTurnDeg = 60.0;
 inline constexpr double kMaxSunChange = 3.0;
+inline constexpr double kMaxSunAngleDeg = 80.0;
 inline constexpr double kMaxCloudDrift = 0.5;
 inline constexpr double kMaxGloss = 1.0;
 inline constexpr double kMaxTiltDeg = 45.0;
@@ -99,6 +100,9 @@ struct SceneSpec {
     // sun went behind a cloud (under 1) or came out (over 1). Unlike lightChange, a surface
     // facing the sun changes more than one facing away, and the sky not at all.
     double sunChange = 1.0;
+    // The light's angle from the view axis, degrees (0: the seed's, 9-44°; up to 80: a low sun
+    // from the side, half the blade in its own shade and long shadows), about the seed's azimuth.
+    double sunAngleDeg = 0.0;
     double distanceMm = 850.0;  // camera to object
     double rollDeg = 0.0;       // the object turned by this about the view axis (in the image)
     // The object turned out of the view: about the image's horizontal axis (tilt: seen from above

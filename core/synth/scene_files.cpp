@@ -53,6 +53,7 @@ nlohmann::json truthJson(const SyntheticScene& scene, const SceneSpec& spec) {
             {"light_change", spec.lightChange},
             {"light_turn_deg", spec.lightTurnDeg},
             {"sun_change", spec.sunChange},
+            {"sun_angle_deg", spec.sunAngleDeg},
             {"distance_mm", spec.distanceMm},
             {"roll_deg", spec.rollDeg},
             {"tilt_deg", spec.tiltDeg},

@@ -98,6 +98,7 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
         bool shadows = false;
         double tableGapMm = 0.0;
         double sunChange = 1.0;
+        double sunAngleDeg = 0.0;
         bool force = false;
         bool json = false;
     };
@@ -139,6 +140,10 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
                     "the current capture's direct light (the sun, a rig's lamps) times this, 0..3, the sky's light "
                     "unchanged: a surface facing the sun changes more than one facing away, the sky behind not at all")
         ->check(CLI::Range(0.0, synth::kMaxSunChange));
+    cmd->add_option("--sun-angle", o->sunAngleDeg,
+                    "the light's angle from the view axis, 0..80 degrees (0: the seed's, 9-44; 70: a low sun from the "
+                    "side, half the blade in its own shade and long shadows)")
+        ->check(CLI::Range(0.0, synth::kMaxSunAngleDeg));
     cmd->add_option("--light-turn", o->lightTurnDeg,
                     "the current capture's light direction turned by this many degrees (the sun moved across the sky "
                     "and in height: a curved surface's shading changes unevenly), 0..60")
@@ -220,6 +225,7 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
             spec.shadows = o->shadows;
             spec.tableGapMm = o->tableGapMm;
             spec.sunChange = o->sunChange;
+            spec.sunAngleDeg = o->sunAngleDeg;
             spec.textureContrast = o->textureContrast;
             spec.textureFeatureMm = o->textureFeatureMm;
             spec.iceWhiteness = o->iceWhiteness;
