@@ -74,6 +74,7 @@ void readVolume(Section s, volume::Parameters& v) {
     s.read("outline_growth_mm", v.outlineGrowthMm, 0.0, 500.0);
     s.read("outline_ice_min_mm", v.outlineIceMinMm, 0.1, 100.0);
     s.read("outline_footing_mm", v.outlineFootingMm, 0.0, 100.0);
+    s.read("outline_standoff_mm", v.outlineStandoffMm, 0.0, 1000.0);
     s.read("outline_min_texture_grey", v.outlineMinTextureGrey, 0.0, 255.0);
     s.read("outline_min_correlation", v.outlineMinCorrelation, 0.0, 1.0);
     s.read("outline_min_contrast_grey", v.outlineMinContrastGrey, 0.0, 255.0);

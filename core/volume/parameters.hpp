@@ -69,6 +69,13 @@ struct Parameters {
     double outlineGrowthMm = 50;
     double outlineIceMinMm = 2.0;
     double outlineFootingMm = 1.5;
+    // Where the outline stands more than this above the background the baseline saw beyond it (a
+    // blade on trestles over its table), ice standing in front of it is measured from halfway
+    // down, its underside anywhere from the outline's height to the background (the hidden term).
+    // Lying on its table, a rendered blade's outline (its nearest measured surface, the edge margin
+    // up a rounded edge) stood 1.0-4.0 mm above it (10th-90th percentile, under a bead); a plate
+    // around a block, -1.5 to 1.2 mm.
+    double outlineStandoffMm = 5.0;
     // Only pixels of the ring whose disparity is a measurement count (beyond_outline.hpp:
     // measurableRing): a textured patch (grey levels, on the trackers' smoothed image) found again
     // in the right eye.

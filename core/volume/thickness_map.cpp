@@ -123,6 +123,9 @@ ThicknessMap thicknessMap(const PlaneClouds& clouds, const cv::Mat& roi, const c
     const cv::Mat currentRingHeight =
         anyRing && !clouds.currentRing.empty() ? interpolateLattice(clouds.currentRing, grid, steps) : none;
     cv::Mat rise(grid.nv, grid.nu, CV_64F, cv::Scalar(kNaN));
+    // Per ring node, half of how far the outline stands off the background seen there (0 where it
+    // does not): the band in which the underside of ice in front of it may lie.
+    cv::Mat standoffHalfMm(grid.nv, grid.nu, CV_64F, cv::Scalar(0.0));
     cv::Mat bare(grid.nv, grid.nu, CV_8U, cv::Scalar(0));  // outside the region, featureless background in the baseline
     std::vector<double> seenRises;
     map.baselineHeight = baselineHeight.clone();
@@ -145,8 +148,18 @@ ThicknessMap thicknessMap(const PlaneClouds& clouds, const cv::Mat& roi, const c
                 // drawn on it, the matcher's fringe), or from the outline's nearest surface where
                 // it saw sky.
                 const double seen = ringHeight.at<double>(j, i);
-                rise.at<double>(j, i) = currentRingHeight.at<double>(j, i) - (std::isnan(seen) ? h : seen);
-                if (!std::isnan(seen) && !std::isnan(rise.at<double>(j, i))) seenRises.push_back(rise.at<double>(j, i));
+                const double current = currentRingHeight.at<double>(j, i);
+                double footing = std::isnan(seen) ? h : seen;
+                if (!std::isnan(seen) && h - seen > p.outlineStandoffMm) {
+                    // The outline stands off what the baseline saw beyond it (a blade on trestles,
+                    // a whole airfoil's edge above its table): ice in front of it shows its top,
+                    // and its underside may reach down to that background or stop at the
+                    // outline's height. The middle, and the band its hidden half (hiddenMm).
+                    standoffHalfMm.at<double>(j, i) = 0.5 * (h - seen);
+                    footing = seen + standoffHalfMm.at<double>(j, i);
+                }
+                rise.at<double>(j, i) = current - footing;
+                if (!std::isnan(seen) && !std::isnan(current)) seenRises.push_back(current - seen);
                 continue;
             }
             if (!roi.at<std::uint8_t>(y, x)) continue;
@@ -174,6 +187,7 @@ ThicknessMap thicknessMap(const PlaneClouds& clouds, const cv::Mat& roi, const c
     const int gapNodes = static_cast<int>(std::ceil(p.edgeMarginPx * pixelMm / std::min(grid.du, grid.dv)));
     map.beyond = iceBeyondOutline(rise, map.inside, minRiseMm, gapNodes, noiseMm);
     rise.copyTo(map.thickness, map.beyond);
+    standoffHalfMm.copyTo(map.hiddenMm, map.beyond & (standoffHalfMm > 0));
     if (!hidden.pixels.empty()) {
         const int fringeNodes = static_cast<int>(std::ceil(p.outlineFringePx * pixelMm / std::min(grid.du, grid.dv)));
         addTaperedIce(map, rise, bare, hidden, plane, k, minRiseMm, gapNodes, fringeNodes);

@@ -28,7 +28,9 @@ struct ThicknessMap {
     // CV_64F per node: how far the thickness stands above its least, where a band the camera does
     // not see along its line of sight (behind a block's far edge, under a horn seen at an angle) was
     // bridged by the interpolation in either capture; 0 elsewhere. The hidden band may be as low as
-    // the far surface or as high as the near one: the bridge is the middle.
+    // the far surface or as high as the near one: the bridge is the middle. In front of an outline
+    // that stands off its background (outline_standoff_mm), ice is measured from halfway down to
+    // the background, and half that band is its hidden part.
     cv::Mat hiddenMm;
     int insideNodes = 0, iceNodes = 0, beyondNodes = 0, taperedNodes = 0;
     int filledNodes = 0;     // ice nodes without a measurement, filled from the nearest

@@ -68,7 +68,8 @@ struct ViewGeometry {
 //                 stereo sees it (seenThroughSigmaMm3);
 //   hidden        a band the camera does not see along its line of sight, bridged by the
 //                 interpolation, may be anything from the far surface to the near one: the bridge
-//                 is the middle, uniformly (|hiddenMm| integrated, over √3).
+//                 is the middle, uniformly (|hiddenMm| integrated, over √3); so is the underside of
+//                 ice in front of an outline that stands off its background.
 UncertaintyBudget volumeUncertainty(const ThicknessMap& map, const PlaneFrame& plane, const MotionEstimate& motion,
                                     const MatcherPush& push, const ViewGeometry& view, const Parameters& parameters,
                                     double volumeMm3, const SeenThroughIce& seenThrough = {});

@@ -124,6 +124,7 @@ TEST(Config, ShippedFileDocumentsTheDefaults) {
     EXPECT_EQ(v.outlineGrowthMm, d.outlineGrowthMm);
     EXPECT_EQ(v.outlineIceMinMm, d.outlineIceMinMm);
     EXPECT_EQ(v.outlineFootingMm, d.outlineFootingMm);
+    EXPECT_EQ(v.outlineStandoffMm, d.outlineStandoffMm);
     EXPECT_EQ(v.outlineMinTextureGrey, d.outlineMinTextureGrey);
     EXPECT_EQ(v.outlineMinCorrelation, d.outlineMinCorrelation);
     EXPECT_EQ(v.outlineMinContrastGrey, d.outlineMinContrastGrey);

@@ -402,6 +402,25 @@ TEST(VolumeChain, RimePatchesOnABladeParkedAtAnotherPitchAreMeasured) {
     ASSERT_NO_FATAL_FAILURE(expectMeasured(b, 0.3));
 }
 
+// A bead on a blade resting 20 mm above its table (on trestles, or a whole airfoil whose edges
+// stand off the table): the bead's front shows its top, and the baseline saw the table beyond the
+// outline. Measured from the table, its underside was taken to reach down to it, and it said ok at
+// +91 % against ±70 680 mm³ (16 frames). Now from halfway down, the rest of that band in the budget.
+TEST(VolumeChain, ABeadOnABladeRaisedAboveItsTableIsMeasuredFromHalfwayDown) {
+    synth::SceneSpec spec = smallBladeSpec();
+    spec.ice = synth::IceKind::Bead;
+    spec.iceVolumeMm3 = 197717;
+    spec.seed = 45;
+    spec.motion = synth::MotionKind::None;
+    spec.background = synth::Background::Table;
+    spec.tableGapMm = 20;
+    spec.shadows = true;
+    const AveragedBlade b = measureAveragedBlade(spec, stereo::Method::Paper);
+    ASSERT_NO_FATAL_FAILURE(expectCovered(b));
+    EXPECT_GT(b.result.beyondOutlineMm3, 0.0);
+    EXPECT_GT(b.result.budget.hiddenMm3, 0.1 * b.result.beyondOutlineMm3) << "the band under the bead is carried";
+}
+
 // Without an outline drawn, the region is found by depth alone. A blade lying on a table has the
 // table at its depth: the region was the whole view, and the chain said ok over a table a metre
 // across (-23 % against ±410 000 mm³ on 197 717). It refuses, and says to draw the outline.
