@@ -421,6 +421,20 @@ TEST(VolumeChain, ABeadOnABladeRaisedAboveItsTableIsMeasuredFromHalfwayDown) {
     EXPECT_GT(b.result.budget.hiddenMm3, 0.1 * b.result.beyondOutlineMm3) << "the band under the bead is carried";
 }
 
+// The sun dimmed on a blade against the sky, the sky's own light unchanged (a cloud passing over the
+// sun): the blade's texture darkened against its background, which a layer over all of it could
+// do as well. Nothing in view tells the two apart, and the reason says what would.
+TEST(VolumeChain, TheSunDimmedOnABladeAgainstTheSkyIsRefusedWithTheLightAsTheReason) {
+    synth::SceneSpec spec = smallBladeSpec();
+    spec.iceVolumeMm3 = 197717;
+    spec.seed = 3;
+    spec.sunChange = 0.5;
+    spec.shadows = true;
+    const AveragedBlade b = measureAveragedBlade(spec, stereo::Method::Paper);
+    EXPECT_FALSE(b.result.ok) << b.result.volumeMm3 << " +- " << b.result.uncertaintyMm3;
+    EXPECT_NE(b.result.reason.find("on the object alone"), std::string::npos) << b.result.reason;
+}
+
 // Without an outline drawn, the region is found by depth alone. A blade lying on a table has the
 // table at its depth: the region was the whole view, and the chain said ok over a table a metre
 // across (-23 % against ±410 000 mm³ on 197 717). It refuses, and says to draw the outline.
