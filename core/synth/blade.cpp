@@ -5,7 +5,8 @@
 //                 about half chord, growing towards the tip (accretion scales with the local
 //                 speed) and leaving the root clean;
 //   glaze-all     a thin layer over the whole visible surface, trailing edge, root and tip
-//                 included, somewhat thicker towards the leading edge and the tip;
+//                 included, somewhat thicker towards the leading edge and the tip; grown along
+//                 the normals (SceneSpec::iceOverEdges) it also wraps both edges (glazeEdge);
 //   patches       a few soft-edged, rough rime patches anywhere on the blade, placed by the seed;
 //   bead          a bead right on the leading edge, about as high as it is wide (a few mm across
 //                 for a little ice, a few cm for much; its proportions by the seed), which is the
@@ -237,6 +238,34 @@ GridSurface beadFront(IceKind ice, std::uint32_t seed, double beadOverMm) {
         }
     }
     return s;
+}
+
+GridSurface glazeEdge(const GridSurface& blade, bool leading) {
+    GridSurface s;
+    s.nu = blade.nu;
+    s.nv = 8;
+    s.local.resize(static_cast<std::size_t>(s.nu + 1) * (s.nv + 1));
+    s.ice.resize(s.local.size());
+    const int edgeRow = leading ? 0 : blade.nv;
+    const double outwards = leading ? -1.0 : 1.0;  // the leading edge at -y
+    for (int j = 0; j <= s.nv; ++j) {
+        const double t = static_cast<double>(j) / s.nv;  // 0 on the edge .. 1 as far out as the ice is thick
+        for (int i = 0; i <= s.nu; ++i) {
+            const cv::Vec3d& edge = blade.local[blade.index(i, edgeRow)];
+            const double thicknessMm = blade.ice[blade.index(i, edgeRow)];
+            s.local[s.index(i, j)] = {edge[0], edge[1] + outwards * t * thicknessMm, edge[2]};
+            s.ice[s.index(i, j)] = static_cast<float>(thicknessMm * std::sqrt(std::max(0.0, 1.0 - t * t)));
+        }
+    }
+    return s;
+}
+
+Mesh glazeEdgeMesh(const GridSurface& edge, const Pose& pose, const Look& look) {
+    Mesh mesh = bladeMesh(edge, 1.0, pose, look, kMaterialGlazeEdge);
+    // Lit as the plane it lies on: what shows through it is the table's light there, or the sky's.
+    const float flat = lambert(look, pose.rotation * cv::Vec3d(0, 0, -1));
+    for (VertexAttributes& a : mesh.attributes) a[kAttributeShade] = flat;
+    return mesh;
 }
 
 Mesh bladeMesh(const GridSurface& s, double iceScale, const Pose& pose, const Look& look, int material,

@@ -23,6 +23,16 @@ GridSurface bladeSurface(IceKind ice, std::uint32_t seed, double beadOverMm = kB
 // rendered iced only). Empty (nu = 0) for the other kinds. Its ice is scaled with the blade's.
 GridSurface beadFront(IceKind ice, std::uint32_t seed, double beadOverMm = kBeadReferenceMm);
 
+// The glaze that wraps one edge of an iced blade (leading or trailing), out of its outline: for
+// each span station of `blade` (its ice already scaled), a half-round of ice on the chord plane as
+// wide and as high as the blade's ice at that edge, the section of a layer grown along the surface's
+// normals around an edge. Its ice is in mm: it grows with the square of the blade's ice.
+GridSurface glazeEdge(const GridSurface& blade, bool leading);
+
+// glazeEdge's grid as rendered in the current capture (kMaterialGlazeEdge), shaded as the plane it
+// lies on, since what shows through it is the light of what lies behind.
+Mesh glazeEdgeMesh(const GridSurface& edge, const Pose& pose, const Look& look);
+
 // The blade as rendered: clean (iceScale 0) or iced, posed in the camera frame; `material` the
 // blade's, or kMaterialBeadFront for beadFront's grid. With refractive optics the iced blade carries
 // its ice as a clear layer for the eyes to see the blade through (refraction.hpp).

@@ -17,6 +17,7 @@ enum Material : int {
     kMaterialPlate = 2,
     kMaterialTable = 3,
     kMaterialBeadFront = 4,  // ice standing in front of the blade's leading edge: no blade under it
+    kMaterialGlazeEdge = 5,  // a glaze wrapping the blade's edges, out of its outline: clear, nothing under it
 };
 
 // An object frame (x, y in the object's plane, h its height towards the camera) placed in the left

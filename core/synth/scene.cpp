@@ -87,17 +87,30 @@ Geometry bladeGeometry(const SceneSpec& spec, const Pose& before, const Pose& af
         const double sizeMm = kBeadReferenceMm * std::sqrt(spec.iceVolumeMm3 / iceVolumeMm3(surface));
         surface = bladeSurface(spec.ice, spec.seed, sizeMm);
     }
-    const double scale = spec.iceVolumeMm3 / (iceVolumeMm3(surface) + iceVolumeMm3(front));
+    double scale = spec.iceVolumeMm3 / (iceVolumeMm3(surface) + iceVolumeMm3(front));
+    // A glaze wrapping the edges: their half-rounds are as wide as they are high, so they hold the
+    // square of the scale, and the scale that carries the requested volume solves
+    // scale·blade + scale²·edges = volume.
+    const bool wrapsEdges = spec.iceOverEdges && spec.ice == IceKind::GlazeAll;
+    if (wrapsEdges) {
+        const double bladeMm3 = iceVolumeMm3(surface);
+        const double edgesMm3 = iceVolumeMm3(glazeEdge(surface, true)) + iceVolumeMm3(glazeEdge(surface, false));
+        scale = (std::sqrt(bladeMm3 * bladeMm3 + 4.0 * edgesMm3 * spec.iceVolumeMm3) - bladeMm3) / (2.0 * edgesMm3);
+    }
     for (float& t : surface.ice) t = static_cast<float>(t * scale);
     for (float& t : front.ice) t = static_cast<float>(t * scale);
+    std::vector<GridSurface> edges;
+    if (wrapsEdges) edges = {glazeEdge(surface, true), glazeEdge(surface, false)};
     Geometry g;
     g.iceVolumeMm3 = iceVolumeMm3(surface) + iceVolumeMm3(front);
+    for (const GridSurface& edge : edges) g.iceVolumeMm3 += iceVolumeMm3(edge);
     g.maxIceThicknessMm = *std::max_element(surface.ice.begin(), surface.ice.end());
     g.before.push_back(bladeMesh(surface, 0.0, before, look));
     g.after.push_back(bladeMesh(surface, 1.0, after, afterLook, kMaterialBlade, spec.optics));
     if (front.nu > 0) {
         g.after.push_back(withoutBareTriangles(bladeMesh(front, 1.0, after, afterLook, kMaterialBeadFront)));
     }
+    for (const GridSurface& edge : edges) g.after.push_back(glazeEdgeMesh(edge, after, afterLook));
     g.outline = bladeOutline(surface, before, 10);
     if (spec.background == Background::Table) {
         g.before.push_back(tableMesh(-kTableBelowBladeMm - spec.tableGapMm, before, look));
@@ -193,6 +206,9 @@ void checkSpec(const SceneSpec& spec) {
     }
     if (spec.tableGapMm > 0 && (spec.kind != SceneKind::Blade || spec.background != Background::Table)) {
         throw InvalidInput("synthetic scene: the table's gap is a blade's on a table (a block sits on its plate)");
+    }
+    if (spec.iceOverEdges && (spec.kind != SceneKind::Blade || spec.ice != IceKind::GlazeAll)) {
+        throw InvalidInput("synthetic scene: ice over the edges is a glaze-all blade's (the other kinds end where they end)");
     }
     if (spec.kind == SceneKind::Block && spec.ice != IceKind::LeadingEdge) {
         throw InvalidInput("synthetic scene: the ice kind is the blade's; a block scene's ice is the block");
@@ -328,9 +344,9 @@ SyntheticScene renderScene(const SceneSpec& spec) {
     const std::optional<ShadowMap> beforeShadows = shadowsOf(geometry.before, scene.look);
     const std::optional<ShadowMap> afterShadows = shadowsOf(geometry.after, afterLook);
     const Shading beforeShading{scene.look, spec.ice, spec.seed, clouds, 0.0,
-                                beforeShadows ? &*beforeShadows : nullptr};
+                                beforeShadows ? &*beforeShadows : nullptr, spec.background};
     const Shading afterShading{afterLook, spec.ice, spec.seed, clouds, spec.cloudDrift,
-                               afterShadows ? &*afterShadows : nullptr};
+                               afterShadows ? &*afterShadows : nullptr, spec.background};
     EyeTruth beforeTruth, afterTruth;
     auto light = [&](const std::vector<Mesh>& meshes, const Shading& shading, EyeTruth& truth) {
         const double b = spec.baselineMm;

@@ -123,6 +123,11 @@ struct SceneSpec {
     // lower surface, whose edges stand off the table by half its thickness. The outline is then a
     // step down to the table, and a lit blade's shadow falls beside it. 0: it lies on the table.
     double tableGapMm = 0.0;
+    // Glaze-all grown along the surface's normals, as ice forms: it wraps the leading and the
+    // trailing edge and stands out of the clean outline by its thickness there (a half-round of
+    // clear ice along each edge, what lies behind it showing through). Off: a height field over the
+    // planform that ends at the outline.
+    bool iceOverEdges = false;
     // The look the seed draws (look.hpp), overridden where set (0: the seed's): the composite's
     // texture amplitude (the seed's 0.027-0.05) and the size of its coarsest features (4.5-8.5 mm),
     // and the albedo of ice thick enough to hide what is under it (0.82-0.93).

@@ -61,6 +61,7 @@ nlohmann::json truthJson(const SyntheticScene& scene, const SceneSpec& spec) {
             {"cloud_drift", spec.cloudDrift},
             {"shadows", spec.shadows},
             {"table_gap_mm", spec.tableGapMm},
+            {"ice_over_edges", spec.iceOverEdges},
             {"motion_rotation_deg", vec3(scene.motion.rotationDeg)},
             {"motion_translation_mm", vec3(scene.motion.translationMm)},
             {"motion_pivot_mm", vec3(scene.motion.pivotMm)},

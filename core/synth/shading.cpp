@@ -26,6 +26,20 @@ float composite(const Shading& s, float a, float b) {
 // Rime is opaque from a fraction of a millimetre.
 float rimeOpacity(float thicknessMm) { return 1.0f - std::exp(-thicknessMm / 0.3f); }
 
+// What a glaze of this thickness does to what is seen through it (the composite's albedo, or the
+// light of what lies behind an edge it wraps): a glaze so clear that the texture keeps its contrast
+// brightens it as light would; otherwise it whitens it and lowers its contrast the thicker the
+// layer, with a faint texture of the glaze's own surface, that white under the light `lit` (1 for
+// an albedo, lit afterwards).
+float throughGlaze(const Shading& s, float seen, float thickness, float lit, const VertexAttributes& a) {
+    const auto translucencyMm = static_cast<float>(s.look.iceTranslucencyMm);
+    if (s.look.glazeKeepsTexture) return seen * (1.0f + 0.15f * (1.0f - std::exp(-thickness / translucencyMm)));
+    const float veil = 0.1f + 0.35f * (1.0f - std::exp(-thickness / (2.0f * translucencyMm)));
+    const auto whiteness = static_cast<float>(s.look.iceWhiteness);
+    const float glaze = (whiteness + 0.015f * fractalNoise(a[0], a[1], 2.0, 3, s.seed + 110)) * lit;
+    return seen + (glaze - seen) * veil;
+}
+
 // What the blade's ice does to the composite under it.
 float icedComposite(const Shading& s, float albedo, const VertexAttributes& a) {
     const float thickness = a[3];
@@ -42,17 +56,8 @@ float icedComposite(const Shading& s, float albedo, const VertexAttributes& a) {
             const float ice = whiteness + 0.03f * fractalNoise(a[0], a[1], 3.0, 3, s.seed + 100);
             return albedo + (ice - albedo) * opacity;
         }
-        case IceKind::GlazeAll: {
-            if (s.look.glazeKeepsTexture) {
-                // So clear that the texture keeps its contrast, brightened as light would brighten it.
-                return albedo * (1.0f + 0.15f * (1.0f - std::exp(-thickness / translucencyMm)));
-            }
-            // Clear glaze: the composite's texture shows through, whitened and of lower contrast
-            // the thicker the layer, with a faint texture of the glaze's own surface.
-            const float veil = 0.1f + 0.35f * (1.0f - std::exp(-thickness / (2.0f * translucencyMm)));
-            const float glaze = whiteness + 0.015f * fractalNoise(a[0], a[1], 2.0, 3, s.seed + 110);
-            return albedo + (glaze - albedo) * veil;
-        }
+        case IceKind::GlazeAll:
+            return throughGlaze(s, albedo, thickness, 1.0f, a);
         case IceKind::Patches: {
             // Rime: opaque white from a fraction of a millimetre, rough, with a texture of its own.
             const float opacity = rimeOpacity(thickness);
@@ -115,10 +120,20 @@ float sky(const Shading& shading, float skyX, float skyY) {
                           fractalNoise(skyX + shading.cloudShift, skyY, 0.2, 3, shading.seed + 400);
 }
 
+// A glaze wrapping the blade's edge, out of its outline: nothing of the blade under it, so what
+// lies behind shows through it (the table's texture there, lit as the glaze's plane; or the sky).
+float glazeEdgeLight(const Shading& s, const VertexAttributes& a, float skyBehind) {
+    const float behind = s.background == Background::Table ? tabletop(s, a[0], a[1]) * a[kAttributeShade] : skyBehind;
+    return throughGlaze(s, behind, a[kAttributeExtra], a[kAttributeShade], a);
+}
+
 }  // namespace
 
 float shadeSample(const Shading& shading, int material, const VertexAttributes& a, float skyX, float skyY) {
     if (material < 0) return sky(shading, skyX, skyY);
+    if (material == kMaterialGlazeEdge) {
+        return glazeEdgeLight(shading, a, sky(shading, skyX, skyY)) + a[kAttributeHighlight];
+    }
     // What the surface scatters, and on top of it what it mirrors towards this eye (highlight.hpp).
     return diffuseLight(shading, material, a) + a[kAttributeHighlight];
 }

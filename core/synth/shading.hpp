@@ -22,6 +22,8 @@ struct Shading {
     double cloudShift = 0;
     // Cast shadows of the capture's light (shadow.hpp); none: every surface sees the light.
     const ShadowMap* shadows = nullptr;
+    // What lies behind the object: what shows through ice that stands out of it (kMaterialGlazeEdge).
+    Background background = Background::Sky;
 };
 
 // Light (0..1, before the camera's gain) of one sample from its material and its attributes

@@ -133,6 +133,7 @@ TEST(SynthCli, TruthRecordsEveryOption) {
     EXPECT_DOUBLE_EQ(t["light_change"].get<double>(), 0.85);
     EXPECT_EQ(t["shadows"], true);
     EXPECT_DOUBLE_EQ(t["table_gap_mm"].get<double>(), 6.0);
+    EXPECT_EQ(t["ice_over_edges"], false);
     EXPECT_EQ(t["frames"], 1);
     EXPECT_EQ(t["supersampling"], 1);
     EXPECT_EQ(t["mode"], "640x240");
@@ -168,6 +169,11 @@ TEST(SynthCli, BadOptionValuesAreUsageErrors) {
                                          (base / "block").string()});
     EXPECT_EQ(block.status, kExitUsage);
     EXPECT_NE(block.err.find("--ice"), std::string::npos) << block.err;
+    // Rime patches end where they end: only a glaze-all blade's ice is grown over its edges.
+    const auto patches = synth(base / "patches", {"--ice", "patches", "--ice-over-edges"});
+    EXPECT_EQ(patches.status, kExitUsage);
+    EXPECT_NE(patches.err.find("--ice-over-edges"), std::string::npos) << patches.err;
+    EXPECT_FALSE(fs::exists(base / "patches" / "truth.json"));
 }
 
 }  // namespace

@@ -97,6 +97,7 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
         double iceWhiteness = 0.0;
         bool shadows = false;
         double tableGapMm = 0.0;
+        bool iceOverEdges = false;
         double sunChange = 1.0;
         double sunAngleDeg = 0.0;
         bool force = false;
@@ -177,6 +178,9 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
                     "on a table, the blade rests this far above it, 0..100 mm (on trestles, or a whole airfoil "
                     "on its lower surface, its edges standing off the table): the outline steps down to the table")
         ->check(CLI::Range(0.0, synth::kMaxTableGapMm));
+    cmd->add_flag("--ice-over-edges", o->iceOverEdges,
+                  "glaze-all grown along the surface's normals, as ice forms: it wraps the leading and trailing "
+                  "edges and stands out of the outline by its thickness there, clear, what lies behind showing through");
     cmd->add_option("--texture-contrast", o->textureContrast,
                     "the blade's texture amplitude, a share of its albedo, 0.005..0.3 (default: the "
                     "seed's, 0.027..0.05: a weak composite texture; 0.3 is a speckle pattern)")
@@ -199,6 +203,10 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
             if (o->scene == "block" && o->ice != "leading-edge") {
                 throw Error(kExitUsage,
                             "--ice " + o->ice + ": the ice kind is the blade's; a block scene's ice is the block");
+            }
+            if (o->iceOverEdges && (o->scene != "blade" || o->ice != "glaze-all")) {
+                throw Error(kExitUsage, "--ice-over-edges: only a glaze-all blade's ice is grown over its edges (--ice " +
+                                            o->ice + ", --scene " + o->scene + ")");
             }
             checkOutputDirectory(o->out, o->force, "--out");
             synth::SceneSpec spec;
@@ -224,6 +232,7 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
             spec.gloss = o->gloss;
             spec.shadows = o->shadows;
             spec.tableGapMm = o->tableGapMm;
+            spec.iceOverEdges = o->iceOverEdges;
             spec.sunChange = o->sunChange;
             spec.sunAngleDeg = o->sunAngleDeg;
             spec.textureContrast = o->textureContrast;

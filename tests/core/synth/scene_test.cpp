@@ -87,6 +87,44 @@ TEST(SynthScene, TruthMapsAreTheGeometryTheEyesSee) {
     }
 }
 
+// A glaze grown along the normals wraps both edges: the volume is still the one asked for (the
+// half-rounds along the edges hold part of it, so the layer is thinner), and the current capture
+// sees ice out of the baseline's outline on both long sides.
+TEST(SynthScene, AGlazeOverTheEdgesStandsOutOfTheOutlineOnBothSides) {
+    SceneSpec spec;
+    spec.iceVolumeMm3 = 197717;
+    spec.ice = IceKind::GlazeAll;
+    spec.motion = MotionKind::None;
+    spec.frameSize = {2560, 720};  // the camera's mode: the trailing edge's glaze is 1-3 px wide
+    spec.supersampling = 2;
+    spec.noiseSigma = 0;
+    const SyntheticScene ending = renderScene(spec);
+    spec.iceOverEdges = true;
+    const SyntheticScene wrapping = renderScene(spec);
+    EXPECT_NEAR(wrapping.iceVolumeMm3, 197717, 1e-6 * 197717);
+    EXPECT_LT(wrapping.maxIceThicknessMm, 0.95 * ending.maxIceThicknessMm);
+    std::vector<cv::Point> polygon;
+    for (const cv::Point2d& p : wrapping.roi) polygon.emplace_back(cvRound(p.x), cvRound(p.y));
+    cv::Mat outline = cv::Mat::zeros(wrapping.afterIceMm.size(), CV_8U);
+    cv::fillPoly(outline, std::vector<std::vector<cv::Point>>{polygon}, cv::Scalar(255));
+    auto iceOutside = [&outline](const SyntheticScene& scene, cv::Rect half) {
+        const cv::Mat ice = (scene.afterIceMm > 0.2f) & ~outline;
+        return cv::countNonZero(ice(half));
+    };
+    // The blade lies along the image: its leading edge in one half of the rows, its trailing edge
+    // in the other.
+    const cv::Rect box = cv::boundingRect(polygon);
+    const cv::Rect upper(0, 0, outline.cols, box.y + box.height / 2);
+    const cv::Rect lower(0, upper.height, outline.cols, outline.rows - upper.height);
+    // Beyond the pixels the outline's polygon cuts (which see its edge, ice or not), a row along
+    // each edge at least.
+    EXPECT_GT(iceOutside(wrapping, upper), iceOutside(ending, upper) + box.width / 2);
+    EXPECT_GT(iceOutside(wrapping, lower), iceOutside(ending, lower) + box.width / 2);
+    // Only a glaze-all blade's ice is grown that way.
+    spec.ice = IceKind::Patches;
+    EXPECT_THROW(renderScene(spec), InvalidInput);
+}
+
 // A textured pair with a known whole-pixel shift and independent noise in each eye.
 struct ShiftedPair {
     cv::Mat left, right, disparity;
