@@ -36,6 +36,7 @@
 #include "core/volume/image_motion.hpp"
 #include "core/volume/matcher_push.hpp"
 #include "core/volume/motion_evidence.hpp"
+#include "core/volume/outline_growth.hpp"
 #include "core/volume/plane_clouds.hpp"
 #include "core/volume/registration.hpp"
 #include "core/volume/roi.hpp"
@@ -572,6 +573,28 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     if (result.registrationMm > p.maxRegistrationMm) {
         return refused(result, "registration moved the object by " + std::to_string(result.registrationMm) +
                                    " mm, more than max_registration_mm");
+    }
+    // --- the outline against the sky: a layer of ice over its edges too ---
+    // A layer over the whole object wraps its edges as well, and the texture that kept its look
+    // under it (a clear glaze brightening it as much as the sun dimmed) moved with the layer's
+    // surface: the outline grown on both long sides says so where the texture cannot.
+    if (!model->featureless.empty()) {
+        const OutlineGrowth growth =
+            outlineGrowth(baseline.leftGrey, current.leftGrey, baseline.roi, model->featureless, plane, transform,
+                          impl_->projection.get_minor<3, 3>(0, 0), baseline.matchedWindow & current.matchedWindow);
+        result.outlineGrowthMm = growth.medianMm;
+        result.outlineGrowthStations = growth.stations;
+        if (growth.bothSidesGrew && motion.backgroundEvidence == 0) {
+            std::ostringstream reason;
+            reason.precision(3);
+            reason << "the motion between the captures is not observable: the outline grew against the sky on both "
+                      "long sides beyond the motion the object's texture gives ("
+                   << growth.medianMm[0] << " and " << growth.medianMm[1] << " mm at the median of " << growth.stations[0]
+                   << " and " << growth.stations[1]
+                   << " places): ice over its edges too, so the texture that kept its look may lie under a layer over "
+                      "all of the object, and no background it rests on was found";
+            return refused(result, reason.str());
+        }
     }
     // Grown by the reach of the surface's measurement around the ice: the slanted window's, or
     // without it the matcher's aggregation, which spreads the ice's disparity 35 px around it.

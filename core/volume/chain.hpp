@@ -1,5 +1,6 @@
 #pragma once
 
+#include <array>
 #include <chrono>
 #include <functional>
 #include <memory>
@@ -79,6 +80,10 @@ struct VolumeResult {
     int unchangedSamples = 0;    // texture samples found again unchanged (object and background)
     int changedSamples = 0;      // object samples found again with a changed look (ice)
     double supportSpanPercent = 0;  // extent of the unchanged surface the registration rests on
+    // How far the outline grew against the sky beyond the registered motion on each long side,
+    // mm, and at how many stations it was measured (outline_growth.hpp; none: not against a sky).
+    std::array<double, 2> outlineGrowthMm{0.0, 0.0};
+    std::array<int, 2> outlineGrowthStations{0, 0};
     double iceAreaMm2 = 0;       // where thickness was integrated: possible ice, grown by the matcher's reach
     double beyondOutlineMm3 = 0, beyondOutlineAreaMm2 = 0;  // of that, ice standing out of the outline
     // Ice the object's texture was seen through (seen_through.hpp), as the matcher read it. The

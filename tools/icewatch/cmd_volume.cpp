@@ -213,6 +213,8 @@ void addVolumeCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunctio
                                {"unchanged_samples", r.unchangedSamples},
                                {"changed_samples", r.changedSamples},
                                {"registration_support_percent", r.supportSpanPercent},
+                               {"outline_growth_mm", r.outlineGrowthMm},
+                               {"outline_growth_stations", r.outlineGrowthStations},
                                {"baseline_capture", captureJson(before)},
                                {"current_capture", captureJson(after)},
                                {"timings_ms", timings},

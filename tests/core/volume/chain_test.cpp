@@ -209,6 +209,9 @@ TEST(VolumeChain, AveragedIcedBladeIsMeasuredAndItsUncertaintyCoversTheError) {
     // past the edge, hides some sky there (2.6 % of the ice, where the edge margin inside loses
     // about as much).
     EXPECT_LT(r.beyondOutlineMm3, 0.04 * b.scene.iceVolumeMm3) << r.beyondOutlineAreaMm2 << " mm2 beyond the outline";
+    // Its trailing edge, clean against the sky, stayed where the motion put it.
+    EXPECT_GE(std::min(r.outlineGrowthStations[0], r.outlineGrowthStations[1]), 20);
+    EXPECT_LT(std::min(std::abs(r.outlineGrowthMm[0]), std::abs(r.outlineGrowthMm[1])), 0.3);
 }
 
 // A narrow bead on the leading edge, which is the outline the camera sees: half of it or more
@@ -433,6 +436,22 @@ TEST(VolumeChain, TheSunDimmedOnABladeAgainstTheSkyIsRefusedWithTheLightAsTheRea
     const AveragedBlade b = measureAveragedBlade(spec, stereo::Method::Paper);
     EXPECT_FALSE(b.result.ok) << b.result.volumeMm3 << " +- " << b.result.uncertaintyMm3;
     EXPECT_NE(b.result.reason.find("on the object alone"), std::string::npos) << b.result.reason;
+}
+
+// A clear glaze grown along the normals, as ice grows, wraps the blade's edges too. Under a sun
+// dimmed about as much as the glaze brightens the texture, the texture kept its look against the
+// sky's light, and the registration took the glaze's surface for the blade's motion: `ok` at
+// -79.0 % within +-60 880 mm3 (-84.7 % within +-46 242 at 16 frames). Against the sky the outline
+// grew on both long sides, by 2.3 and 5.1 mm, and says so.
+TEST(VolumeChain, AClearGlazeOverTheEdgesUnderADimmedSunIsRefusedByItsOutline) {
+    synth::SceneSpec spec = glazedMovedBladeSpec(14);
+    spec.iceOverEdges = true;
+    spec.sunChange = 0.75;
+    const AveragedBlade b = measureAveragedBlade(spec, stereo::Method::Paper);
+    const VolumeResult& r = b.result;
+    EXPECT_FALSE(r.ok) << r.volumeMm3 << " +- " << r.uncertaintyMm3 << " against " << b.scene.iceVolumeMm3;
+    EXPECT_NE(r.reason.find("the outline grew against the sky on both long sides"), std::string::npos) << r.reason;
+    EXPECT_GT(std::min(r.outlineGrowthMm[0], r.outlineGrowthMm[1]), 1.0);
 }
 
 // Without an outline drawn, the region is found by depth alone. A blade lying on a table has the
