@@ -151,6 +151,9 @@ void checkSpec(const SceneSpec& spec) {
     if (!(spec.iceVolumeMm3 >= 0) || spec.iceVolumeMm3 > 5e6) {
         throw InvalidInput("synthetic scene: ice volume must be between 0 and 5e6 mm3");
     }
+    if (!(spec.blurPx >= 0 && spec.blurPx <= kMaxBlurPx)) {
+        throw InvalidInput("synthetic scene: the lens's blur must be between 0 and 5 px");
+    }
     if (spec.noiseSigma < 0 || spec.noiseSigma > 50) {
         throw InvalidInput("synthetic scene: noise sigma must be between 0 and 50 grey levels");
     }
@@ -254,6 +257,8 @@ constexpr std::pair<Background, const char*> kBackgroundNames[] = {{Background::
                                                                    {Background::Table, "table"}};
 constexpr std::pair<IceOptics, const char*> kOpticsNames[] = {{IceOptics::Painted, "painted"},
                                                               {IceOptics::Refractive, "refractive"}};
+constexpr std::pair<ToneCurve, const char*> kToneCurveNames[] = {{ToneCurve::Linear, "linear"},
+                                                                 {ToneCurve::Filmic, "filmic"}};
 
 }  // namespace
 
@@ -262,11 +267,13 @@ IceKind parseIceKind(std::string_view name) { return parseName("ice kind", name,
 MotionKind parseMotionKind(std::string_view name) { return parseName("motion", name, kMotionNames); }
 Background parseBackground(std::string_view name) { return parseName("background", name, kBackgroundNames); }
 IceOptics parseIceOptics(std::string_view name) { return parseName("ice optics", name, kOpticsNames); }
+ToneCurve parseToneCurve(std::string_view name) { return parseName("tone curve", name, kToneCurveNames); }
 std::string sceneKindName(SceneKind kind) { return nameOf(kind, kSceneNames); }
 std::string iceKindName(IceKind kind) { return nameOf(kind, kIceNames); }
 std::string motionKindName(MotionKind kind) { return nameOf(kind, kMotionNames); }
 std::string backgroundName(Background background) { return nameOf(background, kBackgroundNames); }
 std::string iceOpticsName(IceOptics optics) { return nameOf(optics, kOpticsNames); }
+std::string toneCurveName(ToneCurve curve) { return nameOf(curve, kToneCurveNames); }
 
 SyntheticScene renderScene(const SceneSpec& spec) {
     checkSpec(spec);
@@ -359,10 +366,12 @@ SyntheticScene renderScene(const SceneSpec& spec) {
         for (auto& s : seeds) s = static_cast<std::uint32_t>(random());
         return seeds;
     };
+    const bool filmic = spec.toneCurve == ToneCurve::Filmic;
     scene.beforeJpeg = exposeFrames(light(geometry.before, beforeShading, beforeTruth),
-                                    {1.0, spec.noiseSigma, spec.jpegQuality}, noiseSeeds());
+                                    {1.0, spec.noiseSigma, spec.jpegQuality, spec.blurPx, filmic}, noiseSeeds());
     scene.afterJpeg = exposeFrames(light(geometry.after, afterShading, afterTruth),
-                                   {spec.lightChange, spec.noiseSigma, spec.jpegQuality}, noiseSeeds());
+                                   {spec.lightChange, spec.noiseSigma, spec.jpegQuality, spec.blurPx, filmic},
+                                   noiseSeeds());
     scene.before = cv::imdecode(scene.beforeJpeg.front(), cv::IMREAD_COLOR);
     scene.after = cv::imdecode(scene.afterJpeg.front(), cv::IMREAD_COLOR);
     scene.beforeDisparity = beforeTruth.disparity;

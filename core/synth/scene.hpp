@@ -50,17 +50,26 @@ enum class Background {
     Table,  // a textured tabletop the object lies on (it moves with the object)
 };
 
+// How the camera, or the renderer, turns light into grey levels.
+enum class ToneCurve {
+    Linear,  // grey proportional to light, as a camera's raw data
+    Filmic,  // a toe, a compressed shoulder and sRGB's gamma, as renderers and cameras' processors
+             // make pictures look: a change of light changes bright and dark surfaces unequally
+};
+
 // Each parses the name the command line and truth.json use; throws InvalidInput naming the bad value.
 SceneKind parseSceneKind(std::string_view name);
 IceKind parseIceKind(std::string_view name);
 MotionKind parseMotionKind(std::string_view name);
 Background parseBackground(std::string_view name);
 IceOptics parseIceOptics(std::string_view name);
+ToneCurve parseToneCurve(std::string_view name);
 std::string sceneKindName(SceneKind kind);
 std::string iceKindName(IceKind kind);
 std::string motionKindName(MotionKind kind);
 std::string backgroundName(Background background);
 std::string iceOpticsName(IceOptics optics);
+std::string toneCurveName(ToneCurve curve);
 
 inline constexpr int kMaxFrames = 256;
 inline constexpr double kMinLightChange = 0.2;
@@ -75,6 +84,7 @@ inline constexpr double kMaxCloudDrift = 0.5;
 inline constexpr double kMaxGloss = 1.0;
 inline constexpr double kMaxTiltDeg = 45.0;
 inline constexpr double kMaxTableGapMm = 100.0;
+inline constexpr double kMaxBlurPx = 5.0;
 // The look's overrides (SceneSpec): what another renderer, or another blade, may show.
 inline constexpr double kMinTextureContrast = 0.005, kMaxTextureContrast = 0.3;
 inline constexpr double kMinTextureFeatureMm = 0.5, kMaxTextureFeatureMm = 50.0;
@@ -87,6 +97,10 @@ struct SceneSpec {
     cv::Size frameSize{2560, 720};  // side-by-side, both eyes (a camera mode)
     double noiseSigma = 1.5;        // sensor noise, grey levels (0..255), Gaussian
     int jpegQuality = 90;           // MJPEG compression as the camera applies it, 1..100
+    // The lens's blur, the sigma of a Gaussian on each eye in px (0: as sharp as the pixels),
+    // and the tone curve: what another camera or renderer does to the light before the sensor's noise.
+    double blurPx = 0.0;
+    ToneCurve toneCurve = ToneCurve::Linear;
     int frames = 1;                 // frames per capture (a burst), 1..kMaxFrames
     int supersampling = 3;          // samples per pixel and axis (anti-aliasing)
     IceKind ice = IceKind::LeadingEdge;  // the blade's; a block scene's ice is the block

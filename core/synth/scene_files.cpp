@@ -44,6 +44,8 @@ nlohmann::json truthJson(const SyntheticScene& scene, const SceneSpec& spec) {
             {"mode", std::to_string(spec.frameSize.width) + "x" + std::to_string(spec.frameSize.height)},
             {"noise_sigma", spec.noiseSigma},
             {"jpeg_quality", spec.jpegQuality},
+            {"blur_px", spec.blurPx},
+            {"tone_curve", toneCurveName(spec.toneCurve)},
             {"frames", spec.frames},
             {"supersampling", spec.supersampling},
             {"ice", spec.kind == SceneKind::Blade ? iceKindName(spec.ice) : "block"},

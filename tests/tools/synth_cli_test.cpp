@@ -123,7 +123,8 @@ TEST(SynthCli, BadFrameCountIsAUsageError) {
 TEST(SynthCli, TruthRecordsEveryOption) {
     const fs::path dir = test::freshTempDir() / "scene";
     const auto r = synth(dir, {"--ice", "patches", "--motion", "none", "--background", "table", "--light-change", "0.85",
-                               "--shadows", "--table-gap-mm", "6", "--truth-maps"});
+                               "--shadows", "--table-gap-mm", "6", "--blur-px", "0.8", "--tone-curve", "filmic",
+                               "--truth-maps"});
     ASSERT_EQ(r.status, 0) << r.err;
     const nlohmann::json t = truth(dir);
     EXPECT_EQ(t["scene"], "blade");
@@ -134,6 +135,8 @@ TEST(SynthCli, TruthRecordsEveryOption) {
     EXPECT_EQ(t["shadows"], true);
     EXPECT_DOUBLE_EQ(t["table_gap_mm"].get<double>(), 6.0);
     EXPECT_EQ(t["ice_over_edges"], false);
+    EXPECT_DOUBLE_EQ(t["blur_px"].get<double>(), 0.8);
+    EXPECT_EQ(t["tone_curve"], "filmic");
     EXPECT_EQ(t["frames"], 1);
     EXPECT_EQ(t["supersampling"], 1);
     EXPECT_EQ(t["mode"], "640x240");
@@ -154,7 +157,7 @@ TEST(SynthCli, BadOptionValuesAreUsageErrors) {
     const std::vector<std::vector<std::string>> bad{
         {"--ice", "frost"},          {"--motion", "huge"},        {"--background", "sea"},
         {"--light-change", "0.1"},   {"--light-change", "3.5"},   {"--light-change", "bright"},
-        {"--table-gap-mm", "150"}};
+        {"--table-gap-mm", "150"},   {"--blur-px", "6"},          {"--tone-curve", "gamma"}};
     int k = 0;
     for (const auto& arguments : bad) {
         const fs::path dir = base / std::to_string(k++);

@@ -98,6 +98,8 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
         bool shadows = false;
         double tableGapMm = 0.0;
         bool iceOverEdges = false;
+        double blurPx = 0.0;
+        std::string toneCurve = "linear";
         double sunChange = 1.0;
         double sunAngleDeg = 0.0;
         bool force = false;
@@ -181,6 +183,15 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
     cmd->add_flag("--ice-over-edges", o->iceOverEdges,
                   "glaze-all grown along the surface's normals, as ice forms: it wraps the leading and trailing "
                   "edges and stands out of the outline by its thickness there, clear, what lies behind showing through");
+    cmd->add_option("--blur-px", o->blurPx,
+                    "the lens's blur: a Gaussian of this sigma on each eye, 0..5 px (0: as sharp as the pixels; a "
+                    "renderer's pixel filter is about 0.5, a cheap lens 1 or more)")
+        ->check(CLI::Range(0.0, synth::kMaxBlurPx));
+    cmd->add_option("--tone-curve", o->toneCurve,
+                    "how light becomes grey levels: linear (as raw data) or filmic (a toe, a compressed shoulder and "
+                    "sRGB's gamma, as renderers and cameras' processors make pictures: a change of light changes "
+                    "bright and dark surfaces unequally)")
+        ->check(CLI::IsMember({"linear", "filmic"}));
     cmd->add_option("--texture-contrast", o->textureContrast,
                     "the blade's texture amplitude, a share of its albedo, 0.005..0.3 (default: the "
                     "seed's, 0.027..0.05: a weak composite texture; 0.3 is a speckle pattern)")
@@ -233,6 +244,8 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
             spec.shadows = o->shadows;
             spec.tableGapMm = o->tableGapMm;
             spec.iceOverEdges = o->iceOverEdges;
+            spec.blurPx = o->blurPx;
+            spec.toneCurve = synth::parseToneCurve(o->toneCurve);
             spec.sunChange = o->sunChange;
             spec.sunAngleDeg = o->sunAngleDeg;
             spec.textureContrast = o->textureContrast;

@@ -6,6 +6,7 @@
 
 #include "core/common/error.hpp"
 #include "core/synth/scene.hpp"
+#include "core/synth/sensor.hpp"
 
 namespace icewatch::synth {
 namespace {
@@ -68,6 +69,39 @@ TEST(SynthFrames, TheFirstFrameIsTheDecodedCapture) {
 TEST(SynthFrames, FrameCountIsChecked) {
     EXPECT_THROW(renderScene(smallBlade(0, 1.5)), InvalidInput);
     EXPECT_THROW(renderScene(smallBlade(kMaxFrames + 1, 1.5)), InvalidInput);
+}
+
+// The lens blurs each eye on its own: a step inside the left eye is spread, the seam between the
+// eyes is not (the right eye's light never reaches the left's last column), and the light is kept.
+TEST(SynthFrames, TheLensBlursEachEyeAloneAndKeepsItsLight) {
+    cv::Mat light(40, 200, CV_32F, cv::Scalar(0.2));
+    light.colRange(50, 100).setTo(0.6);   // a step inside the left eye
+    light.colRange(100, 200).setTo(0.8);  // the right eye, brighter
+    const auto decode = [](const std::vector<uchar>& jpeg) { return greyFloat(jpeg); };
+    const cv::Mat sharp = decode(exposeFrames(light, {1.0, 0.0, 100, 0.0, false}, {1}).front());
+    const cv::Mat blurred = decode(exposeFrames(light, {1.0, 0.0, 100, 1.5, false}, {1}).front());
+    EXPECT_NEAR(blurred.at<float>(20, 99), 0.6f * 255, 1.5) << "the left eye's last column, beside the seam";
+    EXPECT_NEAR(blurred.at<float>(20, 100), 0.8f * 255, 1.5) << "the right eye's first column";
+    EXPECT_NEAR(sharp.at<float>(20, 49), 0.2f * 255, 1.5);
+    EXPECT_GT(blurred.at<float>(20, 49), 0.2f * 255 + 10) << "the step inside the eye is spread";
+    EXPECT_LT(blurred.at<float>(20, 50), 0.6f * 255 - 10);
+    EXPECT_NEAR(cv::mean(blurred.colRange(0, 100))[0], cv::mean(sharp.colRange(0, 100))[0], 0.5);
+}
+
+// A filmic curve keeps the order of light and puts the overcast sky about where the linear curve
+// does, but it compresses the bright tones and, unlike a power law, a change of light does not
+// scale every grey level by one factor: a dark surface changes more than a bright one.
+TEST(SynthFrames, AFilmicCurveChangesDarkAndBrightSurfacesUnequally) {
+    for (float l = 0.0f; l < 1.5f; l += 0.05f) EXPECT_LT(filmicTone(l), filmicTone(l + 0.05f)) << l;
+    EXPECT_NEAR(filmicTone(0.8f), 0.82f, 0.02f);
+    const float dark = filmicTone(0.85f * 0.4f) / filmicTone(0.4f), bright = filmicTone(0.85f * 0.8f) / filmicTone(0.8f);
+    EXPECT_LT(dark, bright - 0.005f);
+    const float slope = (filmicTone(0.62f) - filmicTone(0.58f)) / 0.04f;
+    EXPECT_LT(slope, 0.6f) << "the blade's tones are compressed, its texture fainter";
+    // Through the camera: the same light, the same filmic grey, whatever the gain's split.
+    const cv::Mat light(8, 16, CV_32F, cv::Scalar(0.6));
+    const cv::Mat grey = greyFloat(exposeFrames(light, {1.0, 0.0, 100, 0.0, true}, {1}).front());
+    EXPECT_NEAR(grey.at<float>(4, 4), 255 * filmicTone(0.6f), 1.0);
 }
 
 }  // namespace
