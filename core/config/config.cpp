@@ -101,6 +101,7 @@ void readVolume(Section s, volume::Parameters& v) {
     s.read("edge_uncertainty_px", v.edgeUncertaintyPx, 0.0, 10.0);
     s.read("facing_fattening_px", v.facingFatteningPx, 0.0, 20.0);
     s.read("fattening_separable_step_px", v.fatteningSeparableStepPx, 0.0, 20.0);
+    s.read("blur_fattening_per_px", v.blurFatteningPerPx, 0.0, 20.0);
     s.read("scale_uncertainty_percent", v.scaleUncertaintyPercent, 0.0, 50.0);
     s.read("coverage_factor", v.coverageFactor, 1.0, 5.0);
     s.read("min_valid_percent", v.minValidPercent, 0.0, 100.0);

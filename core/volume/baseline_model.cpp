@@ -1,6 +1,8 @@
 // What the estimate needs of the baseline alone (baseline_model.hpp).
 #include "core/volume/baseline_model.hpp"
 
+#include "core/volume/edge_blur.hpp"
+
 #include <cmath>
 #include <optional>
 #include <vector>
@@ -61,6 +63,7 @@ BaselineModel buildBaselineModel(const cv::Mat& roi, const cv::Mat& points, cons
     model.ring = baselineCloud(points, measurableRing(capture, model.ringMask, p), model.plane, p);
     cv::dilate(roi, model.objectGrown, cv::getStructuringElement(cv::MORPH_ELLIPSE, {5, 5}));
     model.featureless = featurelessBackground(leftGrey, model.objectGrown, p.outlineMinTextureGrey);
+    model.blurPx = outlineBlurPx(leftGrey, roi, cv::Rect(0, 0, leftGrey.cols, leftGrey.rows));
     return model;
 }
 

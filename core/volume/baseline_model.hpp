@@ -31,6 +31,9 @@ struct BaselineModel {
     // by 2 px, which the comparisons leave out, and the featureless background beside it.
     cv::Mat objectGrown;
     cv::Mat featureless;
+    // How blurred the baseline is, read off its outline (edge_blur.hpp); none where its outline
+    // does not stand out of its background.
+    std::optional<double> blurPx;
 };
 
 // `roi`: the region (CV_8U); `points`: the baseline's points (CV_32FC3, NaN where none);

@@ -31,6 +31,7 @@
 #include "core/stereo/matcher.hpp"
 #include "core/volume/background_light.hpp"
 #include "core/volume/beyond_outline.hpp"
+#include "core/volume/edge_blur.hpp"
 #include "core/volume/height_grid.hpp"
 #include "core/volume/ice_mask.hpp"
 #include "core/volume/image_motion.hpp"
@@ -667,11 +668,16 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     // --- uncertainty ---
     // Seen at an angle the ice's edges occlude the surface behind them, as far as the surface's
     // measurement reaches (the same reach the ice mask grew by).
+    // Blurred captures spread every step of the ice: the more blurred of the two, as its outline shows.
+    const std::optional<double> currentBlur = outlineBlurPx(current.leftGrey, objectInCurrent, current.matchedWindow);
+    result.blurPx = std::max(model->blurPx.value_or(0.0), currentBlur.value_or(0.0));
     const double fatteningPx = viewObliquityDeg(plane) > p.outlineMaxObliquityDeg
                                    ? (p.slantedWindow ? p.slantedWindowRadiusPx : reachPx)
                                    : 0.0;
     result.budget = volumeUncertainty(map, plane, motion, push,
-                                      {impl_->focalPx, impl_->baselineMm, depthMm, fatteningPx}, p,
+                                      {impl_->focalPx, impl_->baselineMm, depthMm, fatteningPx,
+                                       blurBeyondPixelsPx(result.blurPx)},
+                                      p,
                                       result.volumeMm3, seen);
     result.uncertaintyMm3 = expandedUncertainty(result.budget, p.coverageFactor);
     result.meanThicknessUncertaintyMm = ice.areaMm2 > 0 ? result.uncertaintyMm3 / ice.areaMm2 : 0.0;

@@ -84,6 +84,8 @@ struct VolumeResult {
     // mm, and at how many stations it was measured (outline_growth.hpp; none: not against a sky).
     std::array<double, 2> outlineGrowthMm{0.0, 0.0};
     std::array<int, 2> outlineGrowthStations{0, 0};
+    // How blurred the captures are, read off the outline (edge_blur.hpp), px; 0: not read.
+    double blurPx = 0;
     double iceAreaMm2 = 0;       // where thickness was integrated: possible ice, grown by the matcher's reach
     double beyondOutlineMm3 = 0, beyondOutlineAreaMm2 = 0;  // of that, ice standing out of the outline
     // Ice the object's texture was seen through (seen_through.hpp), as the matcher read it. The

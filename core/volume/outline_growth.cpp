@@ -1,6 +1,8 @@
 // How far the outline grew against the sky beyond the object's motion (outline_growth.hpp).
 #include "core/volume/outline_growth.hpp"
 
+#include "core/volume/outline_stations.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -13,41 +15,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kStepPx = 0.5;
-
-double bilinear(const cv::Mat& image, double x, double y) {
-    const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
-    const double fx = x - x0, fy = y - y0;
-    const float* r0 = image.ptr<float>(y0);
-    const float* r1 = image.ptr<float>(y0 + 1);
-    return (1 - fy) * ((1 - fx) * r0[x0] + fx * r0[x0 + 1]) + fy * ((1 - fx) * r1[x0] + fx * r1[x0 + 1]);
-}
-
-// The profile from `insidePx` in to `outsidePx` out along `normal` through `centre`, each sample
-// the mean of three lines a pixel apart along the outline; empty when any sample leaves `valid`.
-std::vector<float> profileAt(const cv::Mat& image, const cv::Rect& valid, cv::Point2d centre, cv::Point2d normal,
-                             const OutlineGrowthOptions& o) {
-    const cv::Point2d tangent(-normal.y, normal.x);
-    const int samples = static_cast<int>((o.insidePx + o.outsidePx) / kStepPx) + 1;
-    std::vector<float> profile(static_cast<std::size_t>(samples));
-    const cv::Rect2d inner(valid.x, valid.y, valid.width - 1.001, valid.height - 1.001);
-    for (int i = 0; i < samples; ++i) {
-        const double s = -o.insidePx + i * kStepPx;
-        double sum = 0;
-        for (int line = -1; line <= 1; ++line) {
-            const cv::Point2d q = centre + s * normal + line * tangent;
-            if (!inner.contains(q)) return {};
-            sum += bilinear(image, q.x, q.y);
-        }
-        profile[static_cast<std::size_t>(i)] = static_cast<float>(sum / 3.0);
-    }
-    return profile;
-}
-
-double median(std::vector<double> values) {
-    const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-    std::nth_element(values.begin(), mid, values.end());
-    return *mid;
-}
 
 }  // namespace
 
@@ -98,14 +65,8 @@ OutlineGrowth outlineGrowth(const cv::Mat& baselineGrey, const cv::Mat& currentG
               featureless.type() == CV_8UC1 && baselineGrey.size() == roi.size() &&
               currentGrey.size() == roi.size() && featureless.size() == roi.size());
     OutlineGrowth out;
-    std::vector<std::vector<cv::Point>> contours;
-    cv::findContours(roi.clone(), contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
-    if (contours.empty()) return out;
-    const auto& contour = *std::max_element(contours.begin(), contours.end(), [](const auto& a, const auto& b) {
-        return cv::contourArea(a) < cv::contourArea(b);
-    });
-    const int n = static_cast<int>(contour.size());
-    if (n < 16) return out;
+    const std::vector<OutlineStation> stations = outlineStations(roi, o.stationStepPx);
+    if (stations.empty()) return out;
     // The object's long axis, from the region's second moments.
     const cv::Moments mo = cv::moments(roi, true);
     const double axisAngle = 0.5 * std::atan2(2.0 * mo.mu11, mo.mu20 - mo.mu02);
@@ -132,32 +93,27 @@ OutlineGrowth outlineGrowth(const cv::Mat& baselineGrey, const cv::Mat& currentG
     const int innerSamples = static_cast<int>(o.insidePx / (2 * kStepPx));  // the inner half of the inside
 
     std::array<std::vector<double>, 2> growth;
-    for (int i = 0; i < n; i += o.stationStepPx) {
-        const cv::Point2d p = contour[static_cast<std::size_t>(i)];
-        const cv::Point2d t = cv::Point2d(contour[static_cast<std::size_t>((i + 3) % n)]) -
-                              cv::Point2d(contour[static_cast<std::size_t>((i - 3 + n) % n)]);
-        if (cv::norm(t) < 1e-6) continue;
-        cv::Point2d normal(t.y / cv::norm(t), -t.x / cv::norm(t));
-        if (maskAt(roi, p + 3.0 * normal)) normal = -normal;
-        if (maskAt(roi, p + 3.0 * normal) || !maskAt(roi, p - 3.0 * normal)) continue;  // a corner
+    for (const OutlineStation& station : stations) {
+        const cv::Point2d p = station.at, normal = station.outward;
         if (std::abs(normal.dot(major)) > endCos) continue;  // an end, not a long side
-        // The baseline saw featureless background (sky) all along the outside.
-        if (!maskAt(featureless, p + 4.0 * normal) || !maskAt(featureless, p + 0.7 * o.outsidePx * normal)) continue;
-        const std::vector<float> before = profileAt(baselineGrey, valid, p, normal, o);
+        // The baseline saw featureless background (sky) outside, beyond the reach of a blurred
+        // edge (whose tail the featureless test takes for texture within a few pixels of it).
+        if (!maskAt(featureless, p + 8.0 * normal) || !maskAt(featureless, p + 0.7 * o.outsidePx * normal)) continue;
+        const std::vector<float> before = profileAcross(baselineGrey, valid, p, normal, o.insidePx, o.outsidePx, kStepPx);
         if (before.empty()) continue;
         const double edgeBefore = skyEdgeInProfile(before, kStepPx, skyFit, o.departGrey);
         if (edgeBefore < 0) continue;
         // The object stands out against the sky here, clearly enough to place its edge.
         std::vector<double> inside(before.begin(), before.begin() + innerSamples);
         std::vector<double> sky(before.end() - skyFit, before.end());
-        if (std::abs(median(inside) - median(sky)) < o.minObjectContrastGrey) continue;
+        if (std::abs(stationMedian(inside) - stationMedian(sky)) < o.minObjectContrastGrey) continue;
         // The same station and its normal, moved with the object into the current capture.
         double depthMm = 0;
         const cv::Point2d q = inCurrent(p, &depthMm);
         cv::Point2d qNormal = inCurrent(p + normal) - q;
         if (cv::norm(qNormal) < 1e-6 || depthMm <= 0) continue;
         qNormal *= 1.0 / cv::norm(qNormal);
-        const std::vector<float> after = profileAt(currentGrey, valid, q, qNormal, o);
+        const std::vector<float> after = profileAcross(currentGrey, valid, q, qNormal, o.insidePx, o.outsidePx, kStepPx);
         if (after.empty()) continue;
         const double edgeAfter = skyEdgeInProfile(after, kStepPx, skyFit, o.departGrey);
         if (edgeAfter < 0) continue;
@@ -166,7 +122,7 @@ OutlineGrowth outlineGrowth(const cv::Mat& baselineGrey, const cv::Mat& currentG
     }
     for (std::size_t side = 0; side < 2; ++side) {
         out.stations[side] = static_cast<int>(growth[side].size());
-        if (!growth[side].empty()) out.medianMm[side] = median(growth[side]);
+        if (!growth[side].empty()) out.medianMm[side] = stationMedian(growth[side]);
     }
     out.bothSidesGrew = out.stations[0] >= o.minStationsPerSide && out.stations[1] >= o.minStationsPerSide &&
                         out.medianMm[0] >= o.minGrowthMm && out.medianMm[1] >= o.minGrowthMm;

@@ -134,6 +134,9 @@ struct Parameters {
     // 1.8 px and 0.3 at 2.6 px. σ, px, over the steps' height up to the separable one.
     double facingFatteningPx = 2.0;
     double fatteningSeparableStepPx = 1.5;
+    // The captures blurred beyond their pixels by b px (edge_blur.hpp) carry every step this many
+    // times b further (rendered shed sheets on a table, blurred by 2 px: +53 % against +12 % sharp).
+    double blurFatteningPerPx = 1.0;
     // A share of the volume itself (1 σ): the depth scale (the calibration's focal length and
     // baseline) and the matcher's response on ice, whose aggregation rounds a layer off; on
     // rendered blades a thin glaze over the whole blade read up to 9 % short.

@@ -122,8 +122,11 @@ UncertaintyBudget volumeUncertainty(const ThicknessMap& map, const PlaneFrame& p
     // Facing the camera (and at an angle too, where its own reach is shorter) the steps that the
     // windows' weights cannot see, up to the separable height (Parameters::facingFatteningPx).
     const double separableMm = p.fatteningSeparableStepPx * depthPerPxMm;
-    b.fatteningMm3 = std::max(view.fatteningPx * pixelMm * edges,
-                              p.facingFatteningPx * pixelMm * edgeIntegral(map, separableMm));
+    // A blurred step reaches further: shed sheets on a table, their steps sharp, read +12 % within
+    // +-73 183 mm3; blurred by 1.5 px +45 % within +-88 729, by 2 px +53 % outside +-101 151.
+    const double blurReachPx = p.blurFatteningPerPx * view.blurPx;
+    b.fatteningMm3 = std::max((view.fatteningPx + blurReachPx) * pixelMm * edges,
+                              (p.facingFatteningPx + blurReachPx) * pixelMm * edgeIntegral(map, separableMm));
     b.scaleMm3 = 0.01 * p.scaleUncertaintyPercent * std::abs(volumeMm3);
     // Beyond the outline no surface was seen under the ice: where it meets the object is taken
     // from the outline's nearest measurement, off the edge by the edge margin. One error for all.

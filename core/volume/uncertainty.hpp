@@ -34,6 +34,9 @@ struct ViewGeometry {
     // surface behind it: the slanted window's radius, or the matcher's reach. 0 where the object
     // faces the camera and the ice's edges occlude next to nothing.
     double fatteningPx = 0;
+    // How much more the captures are blurred than their pixels, px (edge_blur.hpp): a blurred step
+    // carries its nearer disparity that much further, whether the object faces the camera or not.
+    double blurPx = 0;
 };
 
 // Each error source carried to the volume integrated over the ice nodes of `map`:
@@ -62,7 +65,8 @@ struct ViewGeometry {
 //                 reach is the σ, on the same ∫|∇t|; facing the camera too, a step lower than
 //                 the windows' weights can see (fatteningSeparableStepPx) carries the ice's
 //                 disparity over the surface beside it: facingFatteningPx, on ∫|∇t| with the
-//                 thickness capped at that step's height; the larger of the two;
+//                 thickness capped at that step's height; the larger of the two; both reach
+//                 blur_fattening_per_px times the captures' blur further (view.blurPx);
 //   scale         scale_uncertainty_percent of the volume;
 //   seen through  ice the object's texture was seen through may be up to n/(n − 1) times as thick as
 //                 stereo sees it (seenThroughSigmaMm3);

@@ -215,6 +215,7 @@ void addVolumeCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunctio
                                {"registration_support_percent", r.supportSpanPercent},
                                {"outline_growth_mm", r.outlineGrowthMm},
                                {"outline_growth_stations", r.outlineGrowthStations},
+                               {"outline_blur_px", r.blurPx},
                                {"baseline_capture", captureJson(before)},
                                {"current_capture", captureJson(after)},
                                {"timings_ms", timings},
