@@ -257,8 +257,8 @@ constexpr std::pair<Background, const char*> kBackgroundNames[] = {{Background::
                                                                    {Background::Table, "table"}};
 constexpr std::pair<IceOptics, const char*> kOpticsNames[] = {{IceOptics::Painted, "painted"},
                                                               {IceOptics::Refractive, "refractive"}};
-constexpr std::pair<ToneCurve, const char*> kToneCurveNames[] = {{ToneCurve::Linear, "linear"},
-                                                                 {ToneCurve::Filmic, "filmic"}};
+constexpr std::pair<ToneCurve, const char*> kToneCurveNames[] = {
+    {ToneCurve::Linear, "linear"}, {ToneCurve::Gamma, "gamma"}, {ToneCurve::Filmic, "filmic"}};
 
 }  // namespace
 
@@ -366,11 +366,13 @@ SyntheticScene renderScene(const SceneSpec& spec) {
         for (auto& s : seeds) s = static_cast<std::uint32_t>(random());
         return seeds;
     };
-    const bool filmic = spec.toneCurve == ToneCurve::Filmic;
+    const Tone tone = spec.toneCurve == ToneCurve::Filmic  ? Tone::Filmic
+                      : spec.toneCurve == ToneCurve::Gamma ? Tone::Gamma
+                                                           : Tone::Linear;
     scene.beforeJpeg = exposeFrames(light(geometry.before, beforeShading, beforeTruth),
-                                    {1.0, spec.noiseSigma, spec.jpegQuality, spec.blurPx, filmic}, noiseSeeds());
+                                    {1.0, spec.noiseSigma, spec.jpegQuality, spec.blurPx, tone}, noiseSeeds());
     scene.afterJpeg = exposeFrames(light(geometry.after, afterShading, afterTruth),
-                                   {spec.lightChange, spec.noiseSigma, spec.jpegQuality, spec.blurPx, filmic},
+                                   {spec.lightChange, spec.noiseSigma, spec.jpegQuality, spec.blurPx, tone},
                                    noiseSeeds());
     scene.before = cv::imdecode(scene.beforeJpeg.front(), cv::IMREAD_COLOR);
     scene.after = cv::imdecode(scene.afterJpeg.front(), cv::IMREAD_COLOR);

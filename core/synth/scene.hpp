@@ -53,6 +53,8 @@ enum class Background {
 // How the camera, or the renderer, turns light into grey levels.
 enum class ToneCurve {
     Linear,  // grey proportional to light, as a camera's raw data
+    Gamma,   // a power law, 1/2.2 as sRGB's and a UVC camera's: a change of light scales every grey
+             // level by one factor, but by less than the light changed (0.85 -> 0.93)
     Filmic,  // a toe, a compressed shoulder and sRGB's gamma, as renderers and cameras' processors
              // make pictures look: a change of light changes bright and dark surfaces unequally
 };

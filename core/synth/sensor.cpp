@@ -20,6 +20,11 @@ float filmicTone(float light) {
     return std::pow(hable(x) / hable(white), 1.0f / 2.2f);
 }
 
+float gammaTone(float light) {
+    constexpr float sky = 0.8f;
+    return sky * std::pow(std::max(0.0f, light) / sky, 1.0f / 2.2f);
+}
+
 namespace {
 
 // Each eye through its own lens: the blur never reaches across the side-by-side seam.
@@ -37,10 +42,11 @@ cv::Mat blurredEyes(const cv::Mat& light, double sigmaPx) {
 
 std::vector<uchar> exposeFrame(const cv::Mat& light, const Exposure& exposure, std::uint32_t noiseSeed) {
     cv::Mat grey = light * exposure.gain;
-    if (exposure.filmic) {
+    if (exposure.tone != Tone::Linear) {
+        const auto curve = exposure.tone == Tone::Filmic ? filmicTone : gammaTone;
         for (int y = 0; y < grey.rows; ++y) {
             float* row = grey.ptr<float>(y);
-            for (int x = 0; x < grey.cols; ++x) row[x] = filmicTone(row[x]);
+            for (int x = 0; x < grey.cols; ++x) row[x] = curve(row[x]);
         }
     }
     grey *= 255.0;

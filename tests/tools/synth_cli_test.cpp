@@ -157,7 +157,7 @@ TEST(SynthCli, BadOptionValuesAreUsageErrors) {
     const std::vector<std::vector<std::string>> bad{
         {"--ice", "frost"},          {"--motion", "huge"},        {"--background", "sea"},
         {"--light-change", "0.1"},   {"--light-change", "3.5"},   {"--light-change", "bright"},
-        {"--table-gap-mm", "150"},   {"--blur-px", "6"},          {"--tone-curve", "gamma"}};
+        {"--table-gap-mm", "150"},   {"--blur-px", "6"},          {"--tone-curve", "log"}};
     int k = 0;
     for (const auto& arguments : bad) {
         const fs::path dir = base / std::to_string(k++);

@@ -188,10 +188,11 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
                     "renderer's pixel filter is about 0.5, a cheap lens 1 or more)")
         ->check(CLI::Range(0.0, synth::kMaxBlurPx));
     cmd->add_option("--tone-curve", o->toneCurve,
-                    "how light becomes grey levels: linear (as raw data) or filmic (a toe, a compressed shoulder and "
-                    "sRGB's gamma, as renderers and cameras' processors make pictures: a change of light changes "
-                    "bright and dark surfaces unequally)")
-        ->check(CLI::IsMember({"linear", "filmic"}));
+                    "how light becomes grey levels: linear (as raw data), gamma (a power law of 1/2.2, as sRGB and a "
+                    "UVC camera: a change of light scales every grey level alike, but less) or filmic (a toe, a "
+                    "compressed shoulder and sRGB's gamma, as renderers and cameras' processors make pictures: a "
+                    "change of light changes bright and dark surfaces unequally)")
+        ->check(CLI::IsMember({"linear", "gamma", "filmic"}));
     cmd->add_option("--texture-contrast", o->textureContrast,
                     "the blade's texture amplitude, a share of its albedo, 0.005..0.3 (default: the "
                     "seed's, 0.027..0.05: a weak composite texture; 0.3 is a speckle pattern)")

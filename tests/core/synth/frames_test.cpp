@@ -78,8 +78,8 @@ TEST(SynthFrames, TheLensBlursEachEyeAloneAndKeepsItsLight) {
     light.colRange(50, 100).setTo(0.6);   // a step inside the left eye
     light.colRange(100, 200).setTo(0.8);  // the right eye, brighter
     const auto decode = [](const std::vector<uchar>& jpeg) { return greyFloat(jpeg); };
-    const cv::Mat sharp = decode(exposeFrames(light, {1.0, 0.0, 100, 0.0, false}, {1}).front());
-    const cv::Mat blurred = decode(exposeFrames(light, {1.0, 0.0, 100, 1.5, false}, {1}).front());
+    const cv::Mat sharp = decode(exposeFrames(light, {1.0, 0.0, 100, 0.0, Tone::Linear}, {1}).front());
+    const cv::Mat blurred = decode(exposeFrames(light, {1.0, 0.0, 100, 1.5, Tone::Linear}, {1}).front());
     EXPECT_NEAR(blurred.at<float>(20, 99), 0.6f * 255, 1.5) << "the left eye's last column, beside the seam";
     EXPECT_NEAR(blurred.at<float>(20, 100), 0.8f * 255, 1.5) << "the right eye's first column";
     EXPECT_NEAR(sharp.at<float>(20, 49), 0.2f * 255, 1.5);
@@ -100,8 +100,13 @@ TEST(SynthFrames, AFilmicCurveChangesDarkAndBrightSurfacesUnequally) {
     EXPECT_LT(slope, 0.6f) << "the blade's tones are compressed, its texture fainter";
     // Through the camera: the same light, the same filmic grey, whatever the gain's split.
     const cv::Mat light(8, 16, CV_32F, cv::Scalar(0.6));
-    const cv::Mat grey = greyFloat(exposeFrames(light, {1.0, 0.0, 100, 0.0, true}, {1}).front());
+    const cv::Mat grey = greyFloat(exposeFrames(light, {1.0, 0.0, 100, 0.0, Tone::Filmic}, {1}).front());
     EXPECT_NEAR(grey.at<float>(4, 4), 255 * filmicTone(0.6f), 1.0);
+    // A power law scales every grey level alike under a change of light, by less than the light.
+    const float g = gammaTone(0.85f * 0.4f) / gammaTone(0.4f);
+    EXPECT_NEAR(gammaTone(0.85f * 0.8f) / gammaTone(0.8f), g, 1e-5f);
+    EXPECT_NEAR(g, std::pow(0.85f, 1.0f / 2.2f), 1e-5f);
+    EXPECT_NEAR(gammaTone(0.8f), 0.8f, 1e-6f);
 }
 
 }  // namespace
