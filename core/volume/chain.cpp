@@ -666,11 +666,11 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     timer.lap("integrate");
 
     // --- uncertainty ---
-    // Seen at an angle the ice's edges occlude the surface behind them, as far as the surface's
-    // measurement reaches (the same reach the ice mask grew by).
     // Blurred captures spread every step of the ice: the more blurred of the two, as its outline shows.
     const std::optional<double> currentBlur = outlineBlurPx(current.leftGrey, objectInCurrent, current.matchedWindow);
     result.blurPx = std::max(model->blurPx.value_or(0.0), currentBlur.value_or(0.0));
+    // Seen at an angle the ice's edges occlude the surface behind them, as far as the surface's
+    // measurement reaches (the same reach the ice mask grew by).
     const double fatteningPx = viewObliquityDeg(plane) > p.outlineMaxObliquityDeg
                                    ? (p.slantedWindow ? p.slantedWindowRadiusPx : reachPx)
                                    : 0.0;
