@@ -580,20 +580,23 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     // under it (a clear glaze brightening it as much as the sun dimmed) moved with the layer's
     // surface: the outline grown on both long sides says so where the texture cannot.
     if (!model->featureless.empty()) {
+        OutlineGrowthOptions growthOptions;
+        growthOptions.blurPx = model->blurPx.value_or(0.0);
         const OutlineGrowth growth =
             outlineGrowth(baseline.leftGrey, current.leftGrey, baseline.roi, model->featureless, plane, transform,
-                          impl_->projection.get_minor<3, 3>(0, 0), baseline.matchedWindow & current.matchedWindow);
+                          impl_->projection.get_minor<3, 3>(0, 0), baseline.matchedWindow & current.matchedWindow,
+                          growthOptions);
         result.outlineGrowthMm = growth.medianMm;
         result.outlineGrowthStations = growth.stations;
-        if (growth.bothSidesGrew && motion.backgroundEvidence == 0) {
+        if (growth.bothSidesChanged && motion.backgroundEvidence == 0) {
             std::ostringstream reason;
             reason.precision(3);
-            reason << "the motion between the captures is not observable: the outline grew against the sky on both "
-                      "long sides beyond the motion the object's texture gives ("
+            reason << "the motion between the captures is not observable: the outline changed against the sky on both "
+                      "long sides beyond the motion the object's texture gives (the width it covers by "
                    << growth.medianMm[0] << " and " << growth.medianMm[1] << " mm at the median of " << growth.stations[0]
                    << " and " << growth.stations[1]
-                   << " places): ice over its edges too, so the texture that kept its look may lie under a layer over "
-                      "all of the object, and no background it rests on was found";
+                   << " places): ice over its edges too, or a motion that is not the object's, so the texture that kept "
+                      "its look may lie under a layer over all of the object, and no background it rests on was found";
             return refused(result, reason.str());
         }
     }

@@ -1,4 +1,5 @@
-// How far the outline grew against the sky beyond the object's motion (outline_growth.hpp).
+// How much the outline's covered width changed against the sky beyond the object's motion
+// (outline_growth.hpp).
 #include "core/volume/outline_growth.hpp"
 
 #include "core/volume/outline_stations.hpp"
@@ -18,10 +19,10 @@ constexpr double kStepPx = 0.5;
 
 }  // namespace
 
-double skyEdgeInProfile(const std::vector<float>& profile, double stepPx, int skyFitSamples, double departGrey) {
+std::optional<double> coveredWidthPx(const std::vector<float>& profile, double stepPx, int insideSamples,
+                                     int skyFitSamples, double departGrey, double minContrastGrey) {
     const int n = static_cast<int>(profile.size());
-    const int pixel = static_cast<int>(std::ceil(1.0 / stepPx));
-    if (skyFitSamples < 3 || n < skyFitSamples + 2 * pixel + 2) return -1;
+    if (skyFitSamples < 3 || insideSamples < 1 || n < insideSamples + skyFitSamples + 2) return std::nullopt;
     // The sky's line over the outer samples.
     double sx = 0, sy = 0, sxx = 0, sxy = 0;
     for (int i = n - skyFitSamples; i < n; ++i) {
@@ -33,29 +34,15 @@ double skyEdgeInProfile(const std::vector<float>& profile, double stepPx, int sk
     const double m = skyFitSamples, slope = (m * sxy - sx * sy) / (m * sxx - sx * sx), offset = (sy - slope * sx) / m;
     auto departure = [&](int i) { return profile[static_cast<std::size_t>(i)] - (offset + slope * i); };
     for (int i = n - skyFitSamples; i < n; ++i)
-        if (std::abs(departure(i)) > departGrey) return -1;  // not sky: something stands there too
-    // The outermost sample that departs, the same way, for a pixel inwards: what stands there.
-    int first = -1;
-    double sign = 0;
-    for (int i = n - skyFitSamples - 1; i >= pixel && first < 0; --i) {
-        const double s = departure(i) > 0 ? 1.0 : -1.0;
-        bool departs = true;
-        for (int j = i; j >= i - pixel && departs; --j) departs = s * departure(j) > departGrey;
-        if (departs) first = i, sign = s;
-    }
-    if (first < 0) return -1;
-    // Its edge is where the departure is half of what it reaches within two pixels inwards: for an
-    // edge the pixels average over, the same place whatever its phase on the pixel grid, its
-    // contrast or its blur (a threshold near the sky's foot moves by a quarter pixel with the phase).
-    double reach = 0;
-    for (int j = first; j >= std::max(0, first - 2 * pixel); --j) reach = std::max(reach, sign * departure(j));
-    const double half = 0.5 * reach;
-    int k = first;
-    while (k > 0 && sign * departure(k) < half) --k;
-    while (k + 1 < n - skyFitSamples && sign * departure(k + 1) >= half) ++k;
-    const double inner = sign * departure(k), outer = sign * departure(k + 1);
-    const double fraction = inner > outer ? std::clamp((inner - half) / (inner - outer), 0.0, 1.0) : 0.0;
-    return (k + fraction) * stepPx;
+        if (std::abs(departure(i)) > departGrey) return std::nullopt;  // not sky: something stands there too
+    // The object's grey against the sky: the inner samples' median departure (its texture varies).
+    std::vector<double> inner(static_cast<std::size_t>(insideSamples));
+    for (int i = 0; i < insideSamples; ++i) inner[static_cast<std::size_t>(i)] = departure(i);
+    const double contrast = stationMedian(inner);
+    if (!(std::abs(contrast) >= minContrastGrey)) return std::nullopt;
+    double covered = 0;
+    for (int i = insideSamples; i < n - skyFitSamples; ++i) covered += departure(i) / contrast;
+    return covered * stepPx;
 }
 
 OutlineGrowth outlineGrowth(const cv::Mat& baselineGrey, const cv::Mat& currentGrey, const cv::Mat& roi,
@@ -89,8 +76,15 @@ OutlineGrowth outlineGrowth(const cv::Mat& baselineGrey, const cv::Mat& currentG
         const cv::Point p(static_cast<int>(std::lround(q.x)), static_cast<int>(std::lround(q.y)));
         return p.x >= 0 && p.y >= 0 && p.x < mask.cols && p.y < mask.rows && mask.at<std::uint8_t>(p) != 0;
     };
-    const int skyFit = static_cast<int>(o.skyFitPx / kStepPx);
-    const int innerSamples = static_cast<int>(o.insidePx / (2 * kStepPx));  // the inner half of the inside
+    // A blurred edge's tails reach further: every length grows with the blur beyond the one they
+    // were made for, so that the profile still holds the whole edge and the sky beyond it.
+    const double scale = std::max(1.0, o.blurPx / o.blurForLengthsPx);
+    const double insidePx = scale * o.insidePx, outsidePx = scale * o.outsidePx;
+    const int skyFit = static_cast<int>(std::lround(scale * o.skyFitPx / kStepPx));
+    const int innerSamples = static_cast<int>(std::lround(insidePx / (2 * kStepPx)));  // the inner half of the inside
+    auto covered = [&](const std::vector<float>& profile) {
+        return coveredWidthPx(profile, kStepPx, innerSamples, skyFit, o.departGrey, o.minObjectContrastGrey);
+    };
 
     std::array<std::vector<double>, 2> growth;
     for (const OutlineStation& station : stations) {
@@ -98,34 +92,26 @@ OutlineGrowth outlineGrowth(const cv::Mat& baselineGrey, const cv::Mat& currentG
         if (std::abs(normal.dot(major)) > endCos) continue;  // an end, not a long side
         // The baseline saw featureless background (sky) outside, beyond the reach of a blurred
         // edge (whose tail the featureless test takes for texture within a few pixels of it).
-        if (!maskAt(featureless, p + 8.0 * normal) || !maskAt(featureless, p + 0.7 * o.outsidePx * normal)) continue;
-        const std::vector<float> before = profileAcross(baselineGrey, valid, p, normal, o.insidePx, o.outsidePx, kStepPx);
-        if (before.empty()) continue;
-        const double edgeBefore = skyEdgeInProfile(before, kStepPx, skyFit, o.departGrey);
-        if (edgeBefore < 0) continue;
-        // The object stands out against the sky here, clearly enough to place its edge.
-        std::vector<double> inside(before.begin(), before.begin() + innerSamples);
-        std::vector<double> sky(before.end() - skyFit, before.end());
-        if (std::abs(stationMedian(inside) - stationMedian(sky)) < o.minObjectContrastGrey) continue;
+        if (!maskAt(featureless, p + 8.0 * scale * normal) || !maskAt(featureless, p + 0.7 * outsidePx * normal)) continue;
+        const std::optional<double> before = covered(profileAcross(baselineGrey, valid, p, normal, insidePx, outsidePx, kStepPx));
+        if (!before) continue;
         // The same station and its normal, moved with the object into the current capture.
         double depthMm = 0;
         const cv::Point2d q = inCurrent(p, &depthMm);
         cv::Point2d qNormal = inCurrent(p + normal) - q;
         if (cv::norm(qNormal) < 1e-6 || depthMm <= 0) continue;
         qNormal *= 1.0 / cv::norm(qNormal);
-        const std::vector<float> after = profileAcross(currentGrey, valid, q, qNormal, o.insidePx, o.outsidePx, kStepPx);
-        if (after.empty()) continue;
-        const double edgeAfter = skyEdgeInProfile(after, kStepPx, skyFit, o.departGrey);
-        if (edgeAfter < 0) continue;
+        const std::optional<double> after = covered(profileAcross(currentGrey, valid, q, qNormal, insidePx, outsidePx, kStepPx));
+        if (!after) continue;
         const int side = normal.dot(minor) > 0 ? 0 : 1;
-        growth[static_cast<std::size_t>(side)].push_back((edgeAfter - edgeBefore) * depthMm / k(0, 0));
+        growth[static_cast<std::size_t>(side)].push_back((*after - *before) * depthMm / k(0, 0));
     }
     for (std::size_t side = 0; side < 2; ++side) {
         out.stations[side] = static_cast<int>(growth[side].size());
         if (!growth[side].empty()) out.medianMm[side] = stationMedian(growth[side]);
     }
-    out.bothSidesGrew = out.stations[0] >= o.minStationsPerSide && out.stations[1] >= o.minStationsPerSide &&
-                        out.medianMm[0] >= o.minGrowthMm && out.medianMm[1] >= o.minGrowthMm;
+    out.bothSidesChanged = out.stations[0] >= o.minStationsPerSide && out.stations[1] >= o.minStationsPerSide &&
+                           std::abs(out.medianMm[0]) >= o.minChangeMm && std::abs(out.medianMm[1]) >= o.minChangeMm;
     return out;
 }
 
