@@ -363,7 +363,9 @@ SyntheticScene renderScene(const SceneSpec& spec) {
     };
     auto noiseSeeds = [&] {
         std::vector<std::uint32_t> seeds(static_cast<std::size_t>(spec.frames));
-        for (auto& s : seeds) s = static_cast<std::uint32_t>(random());
+        // The noise draw mixes into every frame's seed (Knuth's multiplicative hash spreads small
+        // numbers over all the bits); 0 keeps the seed's own draw.
+        for (auto& s : seeds) s = static_cast<std::uint32_t>(random()) ^ (spec.noiseDraw * 2654435761u);
         return seeds;
     };
     const Tone tone = spec.toneCurve == ToneCurve::Filmic  ? Tone::Filmic

@@ -98,6 +98,10 @@ struct SceneSpec {
     std::uint32_t seed = 1;  // pose, motion, look, ice placement and noise
     cv::Size frameSize{2560, 720};  // side-by-side, both eyes (a camera mode)
     double noiseSigma = 1.5;        // sensor noise, grey levels (0..255), Gaussian
+    // Another draw of the sensor noise (and so of each frame's JPEG encoding) for the same scene:
+    // 0 is the seed's own; any other number changes nothing but the noise, so the noise's share of
+    // an error can be measured on a scene whose every other part stays.
+    std::uint32_t noiseDraw = 0;
     int jpegQuality = 90;           // MJPEG compression as the camera applies it, 1..100
     // The lens's blur, the sigma of a Gaussian on each eye in px (0: as sharp as the pixels),
     // and the tone curve: what another camera or renderer does to the light before the sensor's noise.

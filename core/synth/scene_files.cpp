@@ -43,6 +43,7 @@ nlohmann::json truthJson(const SyntheticScene& scene, const SceneSpec& spec) {
             {"seed", spec.seed},
             {"mode", std::to_string(spec.frameSize.width) + "x" + std::to_string(spec.frameSize.height)},
             {"noise_sigma", spec.noiseSigma},
+            {"noise_draw", spec.noiseDraw},
             {"jpeg_quality", spec.jpegQuality},
             {"blur_px", spec.blurPx},
             {"tone_curve", toneCurveName(spec.toneCurve)},

@@ -75,6 +75,7 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
         unsigned seed = 1;
         std::string mode = "2560x720";
         double noise = 1.5;
+        unsigned noiseDraw = 0;
         int jpegQuality = 90;
         int supersampling = 3;
         std::string out;
@@ -111,6 +112,9 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
     cmd->add_option("--seed", o->seed, "pose, motion, look (light, textures, ice appearance), rime patches and noise");
     cmd->add_option("--mode", o->mode, "side-by-side frame size, e.g. 2560x720 or 3840x1080");
     cmd->add_option("--noise", o->noise, "sensor noise sigma, grey levels");
+    cmd->add_option("--noise-draw", o->noiseDraw,
+                    "another draw of the sensor noise and JPEG encoding for the same scene (0: the seed's own); "
+                    "everything else stays, so the noise's share of an error can be measured");
     cmd->add_option("--jpeg-quality", o->jpegQuality, "JPEG quality 1..100");
     cmd->add_option("--supersampling", o->supersampling, "samples per pixel and axis (anti-aliasing)");
     cmd->add_option("--frames", o->frames,
@@ -227,6 +231,7 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
             spec.seed = o->seed;
             spec.frameSize = parseMode(o->mode);
             spec.noiseSigma = o->noise;
+            spec.noiseDraw = o->noiseDraw;
             spec.jpegQuality = o->jpegQuality;
             spec.supersampling = o->supersampling;
             spec.frames = o->frames;

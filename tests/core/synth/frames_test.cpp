@@ -57,6 +57,26 @@ TEST(SynthFrames, EachFrameHasItsOwnNoiseAndTheirMeanConvergesToTheNoiselessRend
     }
 }
 
+// Another noise draw of the same scene: other noise in every frame, the same scene under it (the
+// same truth, and the same picture but for the noise).
+TEST(SynthFrames, AnotherNoiseDrawChangesTheNoiseAndNothingElse) {
+    SceneSpec spec = smallBlade(2, 4.0);
+    const SyntheticScene own = renderScene(spec);
+    spec.noiseDraw = 7;
+    const SyntheticScene other = renderScene(spec);
+    EXPECT_EQ(own.iceVolumeMm3, other.iceVolumeMm3);
+    const SyntheticScene clean = renderScene(smallBlade(1, 0.0));
+    for (std::size_t k = 0; k < 2; ++k) {
+        const cv::Mat a = greyFloat(own.afterJpeg[k]), b = greyFloat(other.afterJpeg[k]);
+        // Two independent draws of sigma 4 differ by 4 sqrt 2; the same draw would not differ at all.
+        EXPECT_NEAR(rms(a, b), 4.0 * std::sqrt(2.0), 0.8) << "frame " << k + 1;
+        EXPECT_NEAR(rms(b, greyFloat(clean.afterJpeg[0])), 4.0, 0.6) << "frame " << k + 1;
+    }
+    spec.noiseDraw = 0;
+    const SyntheticScene again = renderScene(spec);
+    EXPECT_EQ(rms(greyFloat(again.beforeJpeg[0]), greyFloat(own.beforeJpeg[0])), 0.0) << "draw 0 is the seed's own";
+}
+
 TEST(SynthFrames, TheFirstFrameIsTheDecodedCapture) {
     const SyntheticScene scene = renderScene(smallBlade(3, 1.5));
     EXPECT_EQ(cv::norm(cv::imdecode(scene.beforeJpeg[0], cv::IMREAD_COLOR), scene.before, cv::NORM_INF), 0.0);
