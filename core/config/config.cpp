@@ -109,6 +109,7 @@ void readVolume(Section s, volume::Parameters& v) {
     s.read("max_saturated_percent", v.maxSaturatedPercent, 0.0, 100.0);
     s.read("max_new_saturated_percent", v.maxNewSaturatedPercent, 0.0, 100.0);
     s.read("min_contrast", v.minContrast, 0.0, 255.0);
+    s.read("min_contrast_object_motion", v.minContrastObjectMotion, 0.0, 255.0);
     s.read("min_points", v.minPoints, 10, 100000000);
     s.read("max_filled_percent", v.maxFilledPercent, 0.0, 100.0);
     s.finish();

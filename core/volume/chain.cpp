@@ -486,6 +486,8 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
             return refused(result, problem.str());
         }
     }
+    result.baselineContrast = baseline.quality.contrast;
+    result.currentContrast = current.quality.contrast;
     for (const auto& [surface, which] : {std::pair{&baseline, "baseline"}, std::pair{&current, "current"}}) {
         if (auto problem = imageProblem(surface->quality, p, which)) {
             // A segmented region may hold featureless sky the matcher filled with the object's depth.
@@ -574,6 +576,25 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     if (result.registrationMm > p.maxRegistrationMm) {
         return refused(result, "registration moved the object by " + std::to_string(result.registrationMm) +
                                    " mm, more than max_registration_mm");
+    }
+    // --- texture too faint to rest the motion on the object alone ---
+    // A tone curve or a blur flattens the texture, and with it what a clear glaze does to its
+    // look: a change of light then cancels the rest, and the texture that kept its look may lie
+    // under a layer over all of the object. A background the object rests on fixes the motion
+    // without it.
+    if (motion.backgroundEvidence == 0) {
+        const bool baselineFaint = baseline.quality.contrast < p.minContrastObjectMotion;
+        if (baselineFaint || current.quality.contrast < p.minContrastObjectMotion) {
+            std::ostringstream reason;
+            reason.precision(3);
+            reason << "the motion between the captures is not observable: the " << (baselineFaint ? "baseline" : "current")
+                   << " image's texture is too faint to rest the motion on the object alone (contrast "
+                   << (baselineFaint ? baseline.quality.contrast : current.quality.contrast) << " < "
+                   << p.minContrastObjectMotion
+                   << ": a tone curve or a blur flattens it, and what a clear glaze over all of the object does to its "
+                      "look, so that a change of light may cancel the rest), and no background it rests on was found";
+            return refused(result, reason.str());
+        }
     }
     // --- the outline against the sky: a layer of ice over its edges too ---
     // A layer over the whole object wraps its edges as well, and the texture that kept its look

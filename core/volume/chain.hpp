@@ -86,6 +86,8 @@ struct VolumeResult {
     std::array<int, 2> outlineGrowthStations{0, 0};
     // How blurred the captures are, read off the outline (edge_blur.hpp), px; 0: not read.
     double blurPx = 0;
+    // The region's texture in the baseline and the current capture (image_quality.hpp: contrast).
+    double baselineContrast = 0, currentContrast = 0;
     double iceAreaMm2 = 0;       // where thickness was integrated: possible ice, grown by the matcher's reach
     double beyondOutlineMm3 = 0, beyondOutlineAreaMm2 = 0;  // of that, ice standing out of the outline
     // Ice the object's texture was seen through (seen_through.hpp), as the matcher read it. The
