@@ -573,6 +573,7 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     result.registrationMm = cv::norm(transform.apply(plane.origin) - plane.origin);
     result.registrationDeg = std::acos(std::clamp((cv::trace(transform.rotation) - 1.0) / 2.0, -1.0, 1.0)) * 180.0 / kPi;
     result.registrationRmsMm = std::sqrt(motion.chi2PerDof);
+    result.registration = transform;
     if (result.registrationMm > p.maxRegistrationMm) {
         return refused(result, "registration moved the object by " + std::to_string(result.registrationMm) +
                                    " mm, more than max_registration_mm");

@@ -74,6 +74,9 @@ struct VolumeResult {
     double registrationMm = 0;   // how far the current capture moved the region's centre
     double registrationDeg = 0;  // and turned
     double registrationRmsMm = 0;
+    // The registered motion itself, current -> baseline in the baseline's rectified left camera
+    // frame (mm): what a field engineer compares with how the blade is known to have moved.
+    RigidTransform registration;
     int textureInliers = 0;      // unchanged object texture samples the registration agrees with
     int backgroundInliers = 0;   // unchanged background samples it rests on (0: the object alone)
     std::string registrationSource;  // "object", "background", "object+background"

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <opencv2/calib3d.hpp>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
@@ -75,6 +76,31 @@ TEST(VolumeCli, JsonSaysWhereTheCurrentCaptureWasMatchedAndThePeakMemory) {
         EXPECT_NEAR(slanted.at("volume_mm3").get<double>(), out.at("volume_mm3").get<double>(),
                     0.5 * out.at("uncertainty_mm3").get<double>());
     }
+}
+
+// The registered motion is printed in the form of a rendered scene's truth (a rotation vector and
+// a translation), current -> baseline: applied to where the object's origin went, it gives back
+// where the origin was, and its rotation undoes the rendered one.
+TEST(VolumeCli, JsonGivesTheRegisteredMotionAgainstWhichTheTruthCanBeChecked) {
+    const auto dir = smallScene();
+    const auto r = runVolume(dir);
+    ASSERT_EQ(r.status, 0) << r.err << r.out;
+    const auto out = nlohmann::json::parse(r.out);
+    std::ifstream truthFile(dir / "truth.json");
+    const auto truth = nlohmann::json::parse(truthFile);
+    auto vec = [](const nlohmann::json& a) { return cv::Vec3d(a.at(0), a.at(1), a.at(2)); };
+    const cv::Vec3d pivot = vec(truth.at("motion_pivot_mm")), moved = vec(truth.at("motion_translation_mm"));
+    const cv::Vec3d turned = vec(truth.at("motion_rotation_deg"));
+    ASSERT_GT(cv::norm(moved), 0.1) << "the scene's object moved";
+    const auto& motion = out.at("registration_motion");
+    cv::Matx33d rotation;
+    cv::Rodrigues(vec(motion.at("rotation_vector_deg")) * (CV_PI / 180.0), rotation);
+    const cv::Vec3d back = rotation * (pivot + moved) + vec(motion.at("translation_mm"));
+    // A small single-frame block: the registration is good to a few tenths of a millimetre
+    // against a shift of about a millimetre, and to about 0.05° against a turn of about as much
+    // (too small to tell its direction here; degrees, not radians).
+    EXPECT_LT(cv::norm(back - pivot), 0.4 * cv::norm(moved)) << back << " against " << pivot;
+    EXPECT_LT(cv::norm(vec(motion.at("rotation_vector_deg")) + turned), 0.1) << "degrees";
 }
 
 TEST(VolumeCli, MissingFileIsNamed) {

@@ -7,6 +7,7 @@
 #include <iostream>
 
 #include <nlohmann/json.hpp>
+#include <opencv2/calib3d.hpp>
 
 #include "core/common/error.hpp"
 #include "core/config/config.hpp"
@@ -87,6 +88,16 @@ nlohmann::json captureJson(const volume::AveragedCapture& capture) {
     nlohmann::json dropped = nlohmann::json::array();
     for (const auto& d : capture.dropped) dropped.push_back(d.reason);
     return {{"frames_used", capture.framesUsed}, {"frames_dropped", dropped}};
+}
+
+// The registered motion as a rotation vector (degrees) and a translation (mm), current ->
+// baseline in the baseline's left camera frame: the same form as a rendered scene's truth.json.
+nlohmann::json registrationMotionJson(const volume::RigidTransform& motion) {
+    cv::Vec3d rotation;
+    cv::Rodrigues(motion.rotation, rotation);
+    rotation *= 180.0 / CV_PI;
+    return {{"rotation_vector_deg", {rotation[0], rotation[1], rotation[2]}},
+            {"translation_mm", {motion.translation[0], motion.translation[1], motion.translation[2]}}};
 }
 
 }  // namespace
@@ -207,6 +218,7 @@ void addVolumeCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunctio
                                {"registration_mm", r.registrationMm},
                                {"registration_deg", r.registrationDeg},
                                {"registration_rms_mm", r.registrationRmsMm},
+                               {"registration_motion", registrationMotionJson(r.registration)},
                                {"registration_source", r.registrationSource},
                                {"texture_inliers", r.textureInliers},
                                {"background_inliers", r.backgroundInliers},
