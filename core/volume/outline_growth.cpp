@@ -60,22 +60,6 @@ OutlineGrowth outlineGrowth(const cv::Mat& baselineGrey, const cv::Mat& currentG
     const cv::Point2d major(std::cos(axisAngle), std::sin(axisAngle)), minor(-major.y, major.x);
     const double endCos = std::cos(o.endAngleDeg * kPi / 180.0);
 
-    const cv::Matx33d kInv = k.inv();
-    const cv::Matx33d back = toBaseline.rotation.t();
-    auto onPlane = [&](cv::Point2d px) {
-        const cv::Vec3d ray = kInv * cv::Vec3d(px.x, px.y, 1.0);
-        return cv::Vec3d((plane.normal.dot(plane.origin) / plane.normal.dot(ray)) * ray);
-    };
-    auto inCurrent = [&](cv::Point2d px, double* depthMm = nullptr) {
-        const cv::Vec3d p = back * (onPlane(px) - toBaseline.translation);
-        if (depthMm) *depthMm = p[2];
-        const cv::Vec3d q = k * p;
-        return cv::Point2d(q[0] / q[2], q[1] / q[2]);
-    };
-    auto maskAt = [](const cv::Mat& mask, cv::Point2d q) {
-        const cv::Point p(static_cast<int>(std::lround(q.x)), static_cast<int>(std::lround(q.y)));
-        return p.x >= 0 && p.y >= 0 && p.x < mask.cols && p.y < mask.rows && mask.at<std::uint8_t>(p) != 0;
-    };
     // A blurred edge's tails reach further: every length grows with the blur beyond the one they
     // were made for, so that the profile still holds the whole edge and the sky beyond it.
     const double scale = std::max(1.0, o.blurPx / o.blurForLengthsPx);
@@ -92,13 +76,14 @@ OutlineGrowth outlineGrowth(const cv::Mat& baselineGrey, const cv::Mat& currentG
         if (std::abs(normal.dot(major)) > endCos) continue;  // an end, not a long side
         // The baseline saw featureless background (sky) outside, beyond the reach of a blurred
         // edge (whose tail the featureless test takes for texture within a few pixels of it).
-        if (!maskAt(featureless, p + 8.0 * scale * normal) || !maskAt(featureless, p + 0.7 * outsidePx * normal)) continue;
+        if (!insideMask(featureless, p + 8.0 * scale * normal) || !insideMask(featureless, p + 0.7 * outsidePx * normal)) continue;
         const std::optional<double> before = covered(profileAcross(baselineGrey, valid, p, normal, insidePx, outsidePx, kStepPx));
         if (!before) continue;
         // The same station and its normal, moved with the object into the current capture.
-        double depthMm = 0;
-        const cv::Point2d q = inCurrent(p, &depthMm);
-        cv::Point2d qNormal = inCurrent(p + normal) - q;
+        const PixelInCurrent moved = planePixelInCurrent(p, plane, toBaseline, k);
+        const cv::Point2d q = moved.at;
+        const double depthMm = moved.depthMm;
+        cv::Point2d qNormal = planePixelInCurrent(p + normal, plane, toBaseline, k).at - q;
         if (cv::norm(qNormal) < 1e-6 || depthMm <= 0) continue;
         qNormal *= 1.0 / cv::norm(qNormal);
         const std::optional<double> after = covered(profileAcross(currentGrey, valid, q, qNormal, insidePx, outsidePx, kStepPx));

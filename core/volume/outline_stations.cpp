@@ -18,12 +18,12 @@ double bilinear(const cv::Mat& image, double x, double y) {
     return (1 - fy) * ((1 - fx) * r0[x0] + fx * r0[x0 + 1]) + fy * ((1 - fx) * r1[x0] + fx * r1[x0 + 1]);
 }
 
-bool maskAt(const cv::Mat& mask, cv::Point2d q) {
-    const cv::Point p(static_cast<int>(std::lround(q.x)), static_cast<int>(std::lround(q.y)));
+}  // namespace
+
+bool insideMask(const cv::Mat& mask, cv::Point2d at) {
+    const cv::Point p(static_cast<int>(std::lround(at.x)), static_cast<int>(std::lround(at.y)));
     return p.x >= 0 && p.y >= 0 && p.x < mask.cols && p.y < mask.rows && mask.at<std::uint8_t>(p) != 0;
 }
-
-}  // namespace
 
 std::vector<OutlineStation> outlineStations(const cv::Mat& roi, int stepPx) {
     CV_Assert(roi.type() == CV_8UC1 && stepPx >= 1);
@@ -43,8 +43,8 @@ std::vector<OutlineStation> outlineStations(const cv::Mat& roi, int stepPx) {
         const double length = cv::norm(t);
         if (length < 1e-6) continue;
         cv::Point2d normal(t.y / length, -t.x / length);
-        if (maskAt(roi, p + 3.0 * normal)) normal = -normal;
-        if (maskAt(roi, p + 3.0 * normal) || !maskAt(roi, p - 3.0 * normal)) continue;  // a corner
+        if (insideMask(roi, p + 3.0 * normal)) normal = -normal;
+        if (insideMask(roi, p + 3.0 * normal) || !insideMask(roi, p - 3.0 * normal)) continue;  // a corner
         stations.push_back({p, normal});
     }
     return stations;

@@ -15,6 +15,9 @@ struct OutlineStation {
 };
 std::vector<OutlineStation> outlineStations(const cv::Mat& roi, int stepPx);
 
+// Whether the mask (CV_8U) is set at the pixel nearest `at`; false outside it.
+bool insideMask(const cv::Mat& mask, cv::Point2d at);
+
 // The grey (CV_32F image) along `normal` through `centre`, from `insidePx` in to `outsidePx` out
 // every `stepPx`, each sample the mean of three lines a pixel apart along the outline (bilinear);
 // empty when any sample leaves `valid`.

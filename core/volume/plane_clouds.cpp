@@ -83,16 +83,12 @@ PlaneClouds planeClouds(const BaselineCloud& baseline, const BaselineCloud& base
 cv::Mat outlineInCurrent(const cv::Mat& roi, const PlaneFrame& plane, const RigidTransform& toBaseline,
                          const cv::Matx34d& projection, int edgeMarginPx) {
     const cv::Matx33d k = projection.get_minor<3, 3>(0, 0);
-    const cv::Matx33d kInv = k.inv();
-    const cv::Matx33d back = toBaseline.rotation.t();
     std::vector<std::vector<cv::Point>> contours;
     cv::findContours(roi.clone(), contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
     for (auto& contour : contours)
         for (cv::Point& px : contour) {
-            const cv::Vec3d ray = kInv * cv::Vec3d(px.x, px.y, 1.0);
-            const cv::Vec3d onPlane = (plane.normal.dot(plane.origin) / plane.normal.dot(ray)) * ray;
-            const cv::Vec3d moved = k * (back * (onPlane - toBaseline.translation));
-            px = {static_cast<int>(std::lround(moved[0] / moved[2])), static_cast<int>(std::lround(moved[1] / moved[2]))};
+            const cv::Point2d moved = planePixelInCurrent(cv::Point2d(px), plane, toBaseline, k).at;
+            px = {static_cast<int>(std::lround(moved.x)), static_cast<int>(std::lround(moved.y))};
         }
     cv::Mat mask = cv::Mat::zeros(roi.size(), CV_8U);
     cv::fillPoly(mask, contours, cv::Scalar(255));

@@ -1,4 +1,5 @@
-// What the registration rests on: how much of the object the unchanged surface spans.
+// What the registration rests on (how much of the object the unchanged surface spans), and where
+// it puts the baseline's pixels in the current capture.
 #include "core/volume/registration.hpp"
 
 #include <algorithm>
@@ -40,6 +41,15 @@ double supportSpanPercent(const std::vector<cv::Vec3d>& samples, const std::vect
         share = std::min(share, occupied > 0 ? static_cast<double>(covered) / occupied : 0.0);
     }
     return 100.0 * share;
+}
+
+PixelInCurrent planePixelInCurrent(cv::Point2d baselinePx, const PlaneFrame& plane, const RigidTransform& toBaseline,
+                                   const cv::Matx33d& k) {
+    const cv::Vec3d ray = k.inv() * cv::Vec3d(baselinePx.x, baselinePx.y, 1.0);
+    const cv::Vec3d onPlane = (plane.normal.dot(plane.origin) / plane.normal.dot(ray)) * ray;
+    const cv::Vec3d moved = toBaseline.rotation.t() * (onPlane - toBaseline.translation);
+    const cv::Vec3d seen = k * moved;
+    return {{seen[0] / seen[2], seen[1] / seen[2]}, moved[2]};
 }
 
 }  // namespace icewatch::volume

@@ -26,4 +26,14 @@ struct RigidTransform {
 double supportSpanPercent(const std::vector<cv::Vec3d>& samples, const std::vector<std::uint8_t>& support,
                           const RigidTransform& transform, const PlaneFrame& plane);
 
+// A baseline pixel of the object, put on the baseline's plane and moved by the registration
+// (`toBaseline`, current -> baseline) into the current capture: where the camera `k` sees it there,
+// and how far from the camera it is (mm). What a baseline outline becomes in the current capture.
+struct PixelInCurrent {
+    cv::Point2d at;
+    double depthMm = 0;
+};
+PixelInCurrent planePixelInCurrent(cv::Point2d baselinePx, const PlaneFrame& plane, const RigidTransform& toBaseline,
+                                   const cv::Matx33d& k);
+
 }  // namespace icewatch::volume
