@@ -70,6 +70,7 @@ void readVolume(Section s, volume::Parameters& v) {
     s.read("background_band_mm", v.backgroundBandMm, 0.0, 10000.0);
     s.read("max_registration_mm", v.maxRegistrationMm, 0.1, 1000.0);
     s.read("min_support_span_percent", v.minSupportSpanPercent, 0.0, 100.0);
+    s.read("max_object_alone_light_spread_percent", v.maxObjectAloneLightSpreadPercent, 0.0, 100.0);
     s.read("ice_mask_grow_px", v.iceMaskGrowPx, 0, 500);
     s.read("outline_growth_mm", v.outlineGrowthMm, 0.0, 500.0);
     s.read("outline_ice_min_mm", v.outlineIceMinMm, 0.1, 100.0);

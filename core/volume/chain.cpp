@@ -539,10 +539,13 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     evidence.minPairs = p.minEvidenceSamples;
     evidence.minSupportSpanPercent = p.minSupportSpanPercent;
     evidence.backgroundBandMm = p.backgroundBandMm;
+    evidence.maxObjectAloneLightSpread = p.maxObjectAloneLightSpreadPercent / 100.0;
     evidence.lightRatio = lightRatio;
     const double overlap = (2.0 * p.trackRadiusPx + 1) / p.trackStepPx;
     evidence.fit.correlationFactor = std::max(1.0, overlap * overlap);
     const MotionEstimate motion = estimateMotion(tracks, plane, evidence);
+    result.objectLightShift = motion.objectLightShift;
+    result.objectLightSpread = motion.objectLightSpread;
     int foundOnObject = 0;  // the object's texture found again, its look kept or not
     for (const TextureTrack& t : tracks) {
         if (t.state == TextureTrack::State::Unchanged) ++result.unchangedSamples;

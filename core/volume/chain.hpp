@@ -77,6 +77,10 @@ struct VolumeResult {
     // The registered motion itself, current -> baseline in the baseline's rectified left camera
     // frame (mm): what a field engineer compares with how the blade is known to have moved.
     RigidTransform registration;
+    // How the object's unchanged texture changed its brightness against the scene's light (the
+    // median ratio less 1) and how unevenly (the middle half's spread over the median): light
+    // scales clean texture alike, a thin layer over it does not (motion_evidence.hpp).
+    double objectLightShift = 0, objectLightSpread = 0;
     int textureInliers = 0;      // unchanged object texture samples the registration agrees with
     int backgroundInliers = 0;   // unchanged background samples it rests on (0: the object alone)
     std::string registrationSource;  // "object", "background", "object+background"

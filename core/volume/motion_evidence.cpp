@@ -178,7 +178,8 @@ MotionEstimate estimateMotion(const std::vector<TextureTrack>& tracks, const Pla
     const EvidenceLight objectLight = evidenceLight(object, tracks, o.lightRatio);
     const bool objectKeptItsLight = std::abs(objectLight.shift) <= o.maxEvidenceLightShift &&
                                     objectLight.spread <= o.maxEvidenceLightSpread;
-    const bool objectSuffices = onObject.ok && objectSpanPercent >= o.minSupportSpanPercent && objectKeptItsLight;
+    const bool objectAloneKeptItsLight = objectKeptItsLight && objectLight.spread <= o.maxObjectAloneLightSpread;
+    const bool objectSuffices = onObject.ok && objectSpanPercent >= o.minSupportSpanPercent && objectAloneKeptItsLight;
     // Why the object's own texture does not fix its motion when it changed against the light.
     auto lightReason = [&] {
         std::ostringstream reason;
@@ -187,9 +188,12 @@ MotionEstimate estimateMotion(const std::vector<TextureTrack>& tracks, const Pla
         if (std::abs(objectLight.shift) > o.maxEvidenceLightShift) {
             reason << (objectLight.shift > 0 ? "brightened" : "darkened") << " by " << 100.0 * std::abs(objectLight.shift)
                    << " % against the light on its background (at most " << 100.0 * o.maxEvidenceLightShift << " %)";
-        } else {
+        } else if (objectLight.spread > o.maxEvidenceLightSpread) {
             reason << "changed its brightness unevenly (the middle half of it over " << 100.0 * objectLight.spread
                    << " %, at most " << 100.0 * o.maxEvidenceLightSpread << " %)";
+        } else {
+            reason << "changed its brightness unevenly (the middle half of it over " << 100.0 * objectLight.spread
+                   << " %, at most " << 100.0 * o.maxObjectAloneLightSpread << " % where the object alone fixes its motion)";
         }
         // What tells the two apart is a capture under the baseline's light: a layer still changes
         // the texture's brightness then, light no longer does. Said, so that whoever reads the
@@ -227,7 +231,7 @@ MotionEstimate estimateMotion(const std::vector<TextureTrack>& tracks, const Pla
             used = object;
             out.source = "object";
         } else {
-            out.reason = !objectKeptItsLight ? lightReason() + ", and it moved otherwise than its background"
+            out.reason = !objectAloneKeptItsLight ? lightReason() + ", and it moved otherwise than its background"
                                          : "the object's unchanged texture moved otherwise than its background and "
                                            "spans too little of the object to fix its motion alone";
             return out;
@@ -236,7 +240,7 @@ MotionEstimate estimateMotion(const std::vector<TextureTrack>& tracks, const Pla
         chosen = onObject;
         used = object;
         out.source = "object";
-    } else if (!objectKeptItsLight) {
+    } else if (!objectAloneKeptItsLight) {
         out.reason = "the motion between the captures is not observable: " + lightReason() +
                      "; no background it rests on was found";
         return out;

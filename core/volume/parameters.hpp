@@ -55,6 +55,10 @@ struct Parameters {
     // the object along both of its in-plane axes (tenths of its extent where the support holds a
     // third of the samples), unless a background it rests on fixes it.
     double minSupportSpanPercent = 25;
+    // Where the object's texture alone fixes its motion (no background agrees with it), how
+    // unevenly its unchanged samples may have changed their brightness, percent of their median
+    // (the middle half's spread; motion_evidence.hpp, MotionEvidenceOptions::maxObjectAloneLightSpread).
+    double maxObjectAloneLightSpreadPercent = 0.4;
     // The possible-ice mask grows by this much around what texture could not vouch for: the reach
     // of the slanted window (twice its radius), which spreads the ice's volume that far. Without
     // slanted windows the matcher's cross arms spread it further, and that reach is used.

@@ -219,6 +219,7 @@ void addVolumeCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunctio
                                {"registration_deg", r.registrationDeg},
                                {"registration_rms_mm", r.registrationRmsMm},
                                {"registration_motion", registrationMotionJson(r.registration)},
+                               {"object_light", {{"shift", r.objectLightShift}, {"spread", r.objectLightSpread}}},
                                {"registration_source", r.registrationSource},
                                {"texture_inliers", r.textureInliers},
                                {"background_inliers", r.backgroundInliers},

@@ -452,7 +452,12 @@ TEST(VolumeChain, AClearGlazeOverTheEdgesUnderADimmedSunIsRefusedByItsOutline) {
         spec.iceOverEdges = true;
         spec.sunChange = 0.75;
         spec.blurPx = blurPx;
-        const AveragedBlade b = measureAveragedBlade(spec, stereo::Method::Paper);
+        // The texture's uneven light refuses this glaze first (the test after this one); the
+        // outline must refuse it on its own as well.
+        AveragedBlade b;
+        b.scene = synth::renderScene(spec);
+        b.result = measureRenderedBlade(b.scene, stereo::Method::Paper,
+                                        [](Parameters& p) { p.maxObjectAloneLightSpreadPercent = 100; });
         const VolumeResult& r = b.result;
         EXPECT_FALSE(r.ok) << blurPx << ": " << r.volumeMm3 << " +- " << r.uncertaintyMm3 << " against "
                            << b.scene.iceVolumeMm3;
@@ -460,6 +465,21 @@ TEST(VolumeChain, AClearGlazeOverTheEdgesUnderADimmedSunIsRefusedByItsOutline) {
             << blurPx << ": " << r.reason;
         EXPECT_GT(std::min(std::abs(r.outlineGrowthMm[0]), std::abs(r.outlineGrowthMm[1])), 0.5) << blurPx;
     }
+}
+
+// The same glaze ending at the outline, as a height field over the planform: nothing stands out of
+// the outline, and the texture it kept came back within 1.2 % of the sky's light. What tells it
+// from clean texture is how evenly: its samples' ratios spread by about half a percent, clean
+// texture's under light by a tenth. Against the sky the texture alone must fix the motion, and
+// half a percent is refused (-91.8 % within +-38 120 mm3 as `ok` at 16 frames before).
+TEST(VolumeChain, AClearGlazeEndingAtTheOutlineUnderADimmedSunIsRefusedForItsUnevenLight) {
+    synth::SceneSpec spec = glazedMovedBladeSpec(14);
+    spec.sunChange = 0.75;
+    const AveragedBlade b = measureAveragedBlade(spec, stereo::Method::Paper);
+    const VolumeResult& r = b.result;
+    EXPECT_FALSE(r.ok) << r.volumeMm3 << " +- " << r.uncertaintyMm3 << " against " << b.scene.iceVolumeMm3;
+    EXPECT_NE(r.reason.find("where the object alone fixes its motion"), std::string::npos) << r.reason;
+    EXPECT_LT(std::abs(r.objectLightShift), 0.02) << "its median kept the sky's light";
 }
 
 // Through a camera's power law the composite's weak texture reads under 1 grey level per pixel
