@@ -91,7 +91,8 @@ struct MotionEstimate {
 // Not observable (refused with the reason): too little unchanged texture on the object and no
 // background it moves with. The object's own texture does not suffice either when, as a whole, it
 // brightened or darkened against the scene's light (MotionEvidenceOptions::lightRatio), or changed
-// its brightness unevenly (MotionEvidenceOptions::maxEvidenceLightSpread).
+// its brightness unevenly (MotionEvidenceOptions::maxEvidenceLightSpread; where no background
+// agrees and the object's texture alone would fix the motion, maxObjectAloneLightSpread).
 MotionEstimate estimateMotion(const std::vector<TextureTrack>& tracks, const PlaneFrame& plane,
                               const MotionEvidenceOptions& options = {});
 
