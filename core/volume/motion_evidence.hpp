@@ -42,8 +42,8 @@ struct MotionEvidenceOptions {
     // as against a featureless sky): a clear glaze whose brightening a dimmed sun cancelled kept
     // its median within 1.2 % of the sky's light and spread by 0.54 and 0.99 % (rendered, seeds 14
     // and 114 under the sun at 0.75 and 0.7), and the fit took its surface for the blade's
-    // motion: -92 and -89 % as ok. Clean texture moved against the sky spread by 0.03-0.15 % over
-    // blur, tone curves, gloss, a low sun, drifting clouds, JPEG 60, noise 4 and light 0.8-1.2,
+    // motion: -92 and -89 % as ok. Clean texture moved against the sky spread by 0.03-0.28 % over
+    // blur, tone curves, gloss, a low sun, drifting clouds, JPEG 60, noise 4.5 and light 0.8-1.2,
     // glossy and moved far by up to 0.33 % (ridges with gloss 0.24 moved far: 0.47 %, refused);
     // a sun that turned spreads it by up to 0.46 % and brightens or darkens it beyond
     // maxEvidenceLightShift as well. Set from Parameters::maxObjectAloneLightSpreadPercent.
