@@ -188,12 +188,13 @@ MotionEstimate estimateMotion(const std::vector<TextureTrack>& tracks, const Pla
         if (std::abs(objectLight.shift) > o.maxEvidenceLightShift) {
             reason << (objectLight.shift > 0 ? "brightened" : "darkened") << " by " << 100.0 * std::abs(objectLight.shift)
                    << " % against the light on its background (at most " << 100.0 * o.maxEvidenceLightShift << " %)";
-        } else if (objectLight.spread > o.maxEvidenceLightSpread) {
-            reason << "changed its brightness unevenly (the middle half of it over " << 100.0 * objectLight.spread
-                   << " %, at most " << 100.0 * o.maxEvidenceLightSpread << " %)";
         } else {
+            // Beyond the bound every use of the texture has, or only beyond the tighter one for
+            // texture that alone fixes the motion.
+            const bool beyondShared = objectLight.spread > o.maxEvidenceLightSpread;
             reason << "changed its brightness unevenly (the middle half of it over " << 100.0 * objectLight.spread
-                   << " %, at most " << 100.0 * o.maxObjectAloneLightSpread << " % where the object alone fixes its motion)";
+                   << " %, at most " << 100.0 * (beyondShared ? o.maxEvidenceLightSpread : o.maxObjectAloneLightSpread)
+                   << (beyondShared ? " %)" : " % where the object alone fixes its motion)");
         }
         // What tells the two apart is a capture under the baseline's light: a layer still changes
         // the texture's brightness then, light no longer does. Said, so that whoever reads the

@@ -155,11 +155,17 @@ VolumeResult measureRenderedBlade(const synth::SyntheticScene& scene, stereo::Me
     return chain.estimate(baseline, current);
 }
 
-AveragedBlade measureAveragedBlade(const synth::SceneSpec& spec, stereo::Method method, bool slantedWindow = true) {
+// Rendered from `spec` and measured; `adjust` may change the chain's parameters.
+AveragedBlade measureAveragedBlade(const synth::SceneSpec& spec, stereo::Method method,
+                                   const std::function<void(Parameters&)>& adjust) {
     AveragedBlade out;
     out.scene = synth::renderScene(spec);
-    out.result = measureRenderedBlade(out.scene, method, [&](Parameters& p) { p.slantedWindow = slantedWindow; });
+    out.result = measureRenderedBlade(out.scene, method, adjust);
     return out;
+}
+
+AveragedBlade measureAveragedBlade(const synth::SceneSpec& spec, stereo::Method method, bool slantedWindow = true) {
+    return measureAveragedBlade(spec, method, [&](Parameters& p) { p.slantedWindow = slantedWindow; });
 }
 
 // The blade was measured: ok and inside its uncertainty.
@@ -454,10 +460,10 @@ TEST(VolumeChain, AClearGlazeOverTheEdgesUnderADimmedSunIsRefusedByItsOutline) {
         spec.blurPx = blurPx;
         // The texture's uneven light refuses this glaze first (the test after this one); the
         // outline must refuse it on its own as well.
-        AveragedBlade b;
-        b.scene = synth::renderScene(spec);
-        b.result = measureRenderedBlade(b.scene, stereo::Method::Paper,
-                                        [](Parameters& p) { p.maxObjectAloneLightSpreadPercent = 100; });
+        const std::function<void(Parameters&)> unevenLightAllowed = [](Parameters& p) {
+            p.maxObjectAloneLightSpreadPercent = 100;
+        };
+        const AveragedBlade b = measureAveragedBlade(spec, stereo::Method::Paper, unevenLightAllowed);
         const VolumeResult& r = b.result;
         EXPECT_FALSE(r.ok) << blurPx << ": " << r.volumeMm3 << " +- " << r.uncertaintyMm3 << " against "
                            << b.scene.iceVolumeMm3;
