@@ -81,7 +81,7 @@ RigidTransform fitRigid(const std::vector<cv::Vec3d>& from, const std::vector<cv
 // The displacement is measured in the camera frame; rotating the current point rotates its error
 // too, but the motions here are fractions of a degree: the covariance is used as it is.
 cv::Matx33d pairCovariance(const PointPair& pair, const RigidMotionOptions& o) {
-    return (pair.covarianceMm2 + cv::Matx33d::eye() * (o.modelNoiseMm * o.modelNoiseMm)) * o.covarianceScale;
+    return pair.covarianceMm2 * o.covarianceScale;
 }
 
 double pairChi2(const PointPair& pair, const RigidTransform& transform, const RigidMotionOptions& o) {

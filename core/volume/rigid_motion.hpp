@@ -20,7 +20,6 @@ struct RigidMotionOptions {
     int ransacIterations = 300;
     std::uint32_t seed = 1;        // RANSAC draws (fixed: the result does not depend on timing)
     double inlierChi2 = 16.27;     // squared Mahalanobis distance of an inlier (χ² with 3 dof at 99.9 %)
-    double modelNoiseMm = 0.05;    // isotropic σ added to every pair: what a rigid model does not capture
     int refineIterations = 10;
     // Neighbouring pairs share pixels (overlapping patches): their errors are correlated and the
     // covariance of the fit is this many times what independent pairs would give.
@@ -65,7 +64,7 @@ RigidTransform fitRigid(const std::vector<cv::Vec3d>& from, const std::vector<cv
 RigidMotion fitRigidMotion(const std::vector<PointPair>& pairs, const RigidMotionOptions& options = {},
                            int minPairs = 6);
 
-// A pair's covariance as the fit weighs it: its own, the model noise, times covarianceScale.
+// A pair's covariance as the fit weighs it: its own times covarianceScale.
 cv::Matx33d pairCovariance(const PointPair& pair, const RigidMotionOptions& options);
 
 // Squared Mahalanobis distance of one pair under a transform.

@@ -107,8 +107,9 @@ TextureTrack trackOne(const RectifiedCapture& baseline, const RectifiedCapture& 
     out.currentMm = lift(q, at.x + left.shift.x, at.y + left.shift.y, currentDisparity, &jacobian);
     // (x, y, d) of the current point: x and y from the left track, d from both; the baseline's
     // own disparity error moves both points alike and cancels in their difference.
-    const cv::Matx22d& l = left.covariance;
-    const double rx = right.covariance(0, 0);
+    const double floor = o.minShiftSigmaPx * o.minShiftSigmaPx;
+    const cv::Matx22d l = left.covariance + cv::Matx22d(floor, 0, 0, floor);
+    const double rx = right.covariance(0, 0) + floor;
     const cv::Matx33d input(l(0, 0), l(0, 1), l(0, 0),  //
                             l(1, 0), l(1, 1), l(1, 0),  //
                             l(0, 0), l(0, 1), l(0, 0) + rx);

@@ -21,6 +21,10 @@ struct TextureTrackOptions {
     int stepPx = 12;                // one sample every this many pixels in x and y
     int temporalSearchPx = 8;       // how far (px) a patch may have moved between the captures beyond the prior
     double maxShiftSigmaPx = 0.08;  // a track less precise than this along its worst axis is not evidence
+    // No track is taken as more precise than this (px, 1 σ, added to each eye's shift in
+    // quadrature): a patch's own residual can be near zero where the images are all but free of
+    // noise, and what is left then is the tracker's own error (its bias bar is 0.01 px).
+    double minShiftSigmaPx = 0.01;
     double minZncc = 0.6;           // below: the texture was not found again (covered, or changed)
     double offsetSigmas = 4.0;      // an offset beyond this many of its σ, and ...
     double minOffsetShare = 0.04;   // ... beyond this share of the patch's mean, is a change of appearance

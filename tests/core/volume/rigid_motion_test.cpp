@@ -44,7 +44,6 @@ TEST(RigidMotion, RecoversAKnown6DofMotionWithinItsCovariance) {
             }
         RigidMotionOptions options;
         options.seed = static_cast<std::uint32_t>(trial + 1);
-        options.modelNoiseMm = 0.0;
         options.riseAxis = {0, 0, -1};  // towards the camera
         const RigidMotion m = fitRigidMotion(pairs, options);
         ASSERT_TRUE(m.ok);
@@ -62,6 +61,69 @@ TEST(RigidMotion, RecoversAKnown6DofMotionWithinItsCovariance) {
         covered += chi2 < 16.8 ? 1 : 0;  // χ² with 6 dof at 99 %
     }
     EXPECT_GE(covered, trials - 1);
+}
+
+// Through perspective, where the points are seen says how far the object moved towards the camera
+// and how it tilted: a pair's position across the view is known some twenty times better than its
+// depth, and a fit that weighs each pair by its own covariance must use that. Measured at a point
+// beside the pairs along the normal, as the ice on a leading edge beside the clean surface: the
+// fit's error there must come near the least any fit of these pairs can make (from the pairs'
+// true covariances), and far below what their depths alone would give.
+TEST(RigidMotion, ThePairsPrecisionAcrossTheViewFixesTheMotionsDepth) {
+    const RigidTransform truth{rotation({0.003, -0.004, 0.002}), {0.6, -0.4, 1.5}};  // current -> baseline
+    const RigidTransform inverse{truth.rotation.t(), -(truth.rotation.t() * truth.translation)};
+    const cv::Vec3d beside(0, 90, 850);  // where the ice would be
+    const cv::Vec6d gradient(beside[1], -beside[0], 0, 0, 0, 1);  // d(z of exp(ω)·x + δt) / d(ω, δt) at it
+    const auto depthErrorAtIce = [&](const RigidTransform& fit) {
+        return (fit.apply(inverse.apply(beside)) - beside)[2];
+    };
+    std::mt19937 random(5);
+    std::normal_distribution<double> gauss(0.0, 1.0);
+    double sumSquaresAsMeasured = 0, sumSquaresDepthAlone = 0, leastVariance = 0;
+    int coveredAsMeasured = 0;
+    const int trials = 40;
+    for (int trial = 0; trial < trials; ++trial) {
+        std::vector<PointPair> asMeasured, depthAlone;
+        cv::Matx66d information = cv::Matx66d::zeros();
+        for (double u = -400; u <= 400; u += 20)
+            for (double v = -60; v <= 40; v += 20) {
+                const cv::Vec3d baseline(u, v, 850 + 0.05 * u);
+                const cv::Vec3d sight = cv::normalize(inverse.apply(baseline));
+                const cv::Vec3d a = cv::normalize(sight.cross(cv::Vec3d(0, 1, 0))), b = sight.cross(a);
+                const double sLateral = 0.02, sDepth = 0.5;
+                const cv::Vec3d current = inverse.apply(baseline) + sLateral * gauss(random) * a +
+                                          sLateral * gauss(random) * b + sDepth * gauss(random) * sight;
+                const cv::Matx33d lateral = a * a.t() + b * b.t(), along = sight * sight.t();
+                const cv::Matx33d covariance = sLateral * sLateral * lateral + sDepth * sDepth * along;
+                asMeasured.push_back({current, baseline, covariance});
+                // The same pairs, their position across the view taken as no better than their depth.
+                depthAlone.push_back({current, baseline, sDepth * sDepth * (lateral + along)});
+                if (trial == 0) {
+                    cv::Matx<double, 3, 6> j = cv::Matx<double, 3, 6>::zeros();
+                    const cv::Vec3d& q = baseline;  // r(ω, δt) = r + ω × q + δt
+                    j(0, 1) = q[2], j(0, 2) = -q[1], j(1, 0) = -q[2], j(1, 2) = q[0], j(2, 0) = q[1], j(2, 1) = -q[0];
+                    for (int k = 0; k < 3; ++k) j(k, k + 3) = 1;
+                    information += j.t() * covariance.inv() * j;
+                }
+            }
+        if (trial == 0) leastVariance = (gradient.t() * information.inv() * gradient)(0);
+        RigidMotionOptions options;
+        options.seed = static_cast<std::uint32_t>(trial + 1);
+        const RigidMotion fit = fitRigidMotion(asMeasured, options);
+        const RigidMotion depthOnly = fitRigidMotion(depthAlone, options);
+        ASSERT_TRUE(fit.ok);
+        ASSERT_TRUE(depthOnly.ok);
+        const double e = depthErrorAtIce(fit.transform), eDepth = depthErrorAtIce(depthOnly.transform);
+        sumSquaresAsMeasured += e * e;
+        sumSquaresDepthAlone += eDepth * eDepth;
+        coveredAsMeasured += std::abs(e) <= 2.0 * propagate(gradient, fit.covariance) ? 1 : 0;  // k = 2
+    }
+    const double rmsAsMeasured = std::sqrt(sumSquaresAsMeasured / trials);
+    const double rmsDepthAlone = std::sqrt(sumSquaresDepthAlone / trials);
+    const double least = std::sqrt(leastVariance);
+    EXPECT_LT(rmsAsMeasured, 1.25 * least) << rmsAsMeasured << " mm against the least " << least;
+    EXPECT_LT(rmsAsMeasured, 0.3 * rmsDepthAlone) << rmsAsMeasured << " mm against " << rmsDepthAlone;
+    EXPECT_GE(coveredAsMeasured, trials * 9 / 10);
 }
 
 TEST(RigidMotion, DrawsThatCannotWinStopBeingCountedAndTheFitStaysTheSame) {
