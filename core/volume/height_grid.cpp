@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include <opencv2/imgproc.hpp>
 
@@ -61,6 +62,28 @@ GridSpec makeGrid(double uMin, double uMax, double vMin, double vMax, double cel
     return grid;
 }
 
+namespace {
+
+// The median distance on the plane between a point and its right-hand neighbour on the lattice,
+// where both lie on one surface (their heights within `stepMm`); 0 without such pairs.
+double latticeSpacing(const cv::Mat& planePoints, double stepMm) {
+    std::vector<double> distances;
+    for (int y = 0; y < planePoints.rows; ++y) {
+        const auto* row = planePoints.ptr<cv::Vec3d>(y);
+        for (int x = 0; x + 1 < planePoints.cols; ++x) {
+            const cv::Vec3d &p = row[x], &q = row[x + 1];
+            if (std::isnan(p[2]) || std::isnan(q[2]) || std::abs(p[2] - q[2]) > stepMm) continue;
+            distances.push_back(std::hypot(q[0] - p[0], q[1] - p[1]));
+        }
+    }
+    if (distances.empty()) return 0.0;
+    const auto mid = distances.begin() + static_cast<std::ptrdiff_t>(distances.size() / 2);
+    std::nth_element(distances.begin(), mid, distances.end());
+    return *mid;
+}
+
+}  // namespace
+
 cv::Mat interpolateLattice(const cv::Mat& planePoints, const GridSpec& grid, const StepOptions& steps) {
     CV_Assert(planePoints.type() == CV_64FC3);
     // Noise moves points sideways as well as in depth, so neighbouring triangles can overlap a
@@ -69,6 +92,9 @@ cv::Mat interpolateLattice(const cv::Mat& planePoints, const GridSpec& grid, con
     auto valid = [](const cv::Vec3d& p) { return !std::isnan(p[2]); };
     // cos(atan(1 / stepSlope)): an edge within that angle of the line of sight.
     const double alongSight = steps.stepSlope > 0 ? steps.stepSlope / std::hypot(1.0, steps.stepSlope) : 1.0;
+    // Half the lattice's spacing on the plane: how far, on average, a near surface goes on beyond
+    // its last pixel before its wall (its edge lies anywhere between that pixel and the next).
+    const double halfSpacing = steps.stepSlope > 0 ? 0.5 * latticeSpacing(planePoints, steps.stepMinMm) : 0.0;
     auto rasterTriangle = [&](const cv::Vec3d& a, const cv::Vec3d& b, const cv::Vec3d& c) {
         // In grid index space.
         const double ax = (a[0] - grid.u0) / grid.du, ay = (a[1] - grid.v0) / grid.dv;
@@ -92,6 +118,27 @@ cv::Mat interpolateLattice(const cv::Mat& planePoints, const GridSpec& grid, con
         };
         const bool step = steps.stepSlope > 0 && (rises(a, b) || rises(b, c) || rises(a, c));
         const double lowest = std::min({a[2], b[2], c[2]});
+        const double highest = std::max({a[2], b[2], c[2]});
+        // The corners on the near surface: within a step of the highest.
+        const cv::Vec3d* corners[3] = {&a, &b, &c};
+        const cv::Vec3d* near[3] = {nullptr, nullptr, nullptr};
+        int nearCount = 0;
+        for (const cv::Vec3d* corner : corners)
+            if (highest - (*corner)[2] <= steps.stepMinMm) near[nearCount++] = corner;
+        // A step's node on the near surface when it lies within half the spacing of the near
+        // corner (or of the edge between the two near corners), the far surface's beyond: the
+        // near surface ends in a wall at its own edge, which lies half a pixel beyond its last
+        // pixel on average. The lowest corner for every node left a ring of half a pixel of every
+        // block's top out (its height times half a pixel along its perimeter, 2 % of a block).
+        auto stepHeight = [&](double px, double py) {
+            if (nearCount == 0 || nearCount == 3) return lowest;
+            const cv::Vec3d& p0 = *near[0];
+            const cv::Vec3d& p1 = nearCount == 2 ? *near[1] : p0;
+            const double ex = p1[0] - p0[0], ey = p1[1] - p0[1], length2 = ex * ex + ey * ey;
+            const double t = length2 > 0 ? std::clamp(((px - p0[0]) * ex + (py - p0[1]) * ey) / length2, 0.0, 1.0) : 0.0;
+            const double dx = px - (p0[0] + t * ex), dy = py - (p0[1] + t * ey);
+            return dx * dx + dy * dy < halfSpacing * halfSpacing ? p0[2] + t * (p1[2] - p0[2]) : lowest;
+        };
         constexpr double kEdge = -1e-9;  // nodes exactly on a shared edge belong to both
         for (int y = y0; y <= y1; ++y) {
             auto* sumRow = sum.ptr<double>(y);
@@ -101,7 +148,8 @@ cv::Mat interpolateLattice(const cv::Mat& planePoints, const GridSpec& grid, con
                 const double wb = ((cx - x) * (ay - y) - (ax - x) * (cy - y)) * invArea;
                 const double wc = 1.0 - wa - wb;
                 if (wa < kEdge || wb < kEdge || wc < kEdge) continue;
-                const double h = step ? lowest : wa * a[2] + wb * b[2] + wc * c[2];
+                const double h = step ? stepHeight(grid.u0 + x * grid.du, grid.v0 + y * grid.dv)
+                                      : wa * a[2] + wb * b[2] + wc * c[2];
                 sumRow[x] += h;
                 ++countRow[x];
             }

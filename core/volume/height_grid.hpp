@@ -47,9 +47,13 @@ GridSpec makeGrid(double uMin, double uMax, double vMin, double vMax, double cel
 // the triangle between them stands nearly along the line of sight. Interpolating across it would
 // build a ramp over ground that is not seen, as if the near surface sloped down to the far one;
 // the far surface goes on under the near one instead (the near surface ends in a wall at its own
-// edge, the only shape consistent with a surface hidden along the whole band). A triangle is a
-// step when one of its edges rises by more than `stepMinMm` and more than `stepSlope` times its
-// length in the plane; its nodes then take the lowest corner's h. stepSlope 0: no steps.
+// edge, the only shape consistent with a surface hidden along the whole band). That edge lies
+// anywhere between the near surface's last pixel and the next one, half a pixel beyond the last on
+// average. A triangle is a step when one of its edges rises by more than `stepMinMm` and more than
+// `stepSlope` times its length in the plane; its nodes within half the lattice's spacing (the
+// median distance between neighbouring points of one surface) of its near corner, or of the edge
+// between its two near corners, then take the near surface's h, the rest the lowest corner's.
+// stepSlope 0: no steps.
 // Seen at an angle, the hidden band lies along the line of sight, not along the plane's normal: an
 // edge that rises more than `stepMinMm` and runs within atan(1 / stepSlope) of the line from `eye`
 // (the camera's centre in the plane frame, when `seenFromEye`) is a step too. Facing the camera,

@@ -93,13 +93,20 @@ cv::Mat occludedBlockRows() {
 TEST(HeightGrid, OcclusionStepsEndTheNearSurfaceInAWall) {
     const cv::Mat cloud = occludedBlockRows();
     const GridSpec grid = makeGrid(0, 30, 0, 5, 0.25);
-    const double block = 50.0 * 10.0 * 5.0;
-    const double ramps = 2 * 0.5 * 50.0 * 3.0 * 5.0;  // what bridging the hidden bands adds
+    // The top seen at pixels 10 .. 20 ends, on average, half a pixel beyond its last ones: its
+    // edges lie anywhere between them and the next pixels, which see the ground. 11 wide.
+    const double block = 50.0 * 11.0 * 5.0;
+    // Bridged, the ramps span the hidden bands from the top's last pixels (10 and 20).
+    const double bridgedBlock = 50.0 * 10.0 * 5.0, ramps = 2 * 0.5 * 50.0 * 3.0 * 5.0;
     const cv::Mat bridged = interpolateLattice(cloud, grid);
-    EXPECT_NEAR(integrate(bridged, grid, Integration::Trapz), block + ramps, 0.01 * block);
+    EXPECT_NEAR(integrate(bridged, grid, Integration::Trapz), bridgedBlock + ramps, 0.01 * bridgedBlock);
     const cv::Mat walled = interpolateLattice(cloud, grid, {4.0, 8.0});
-    EXPECT_NEAR(integrate(walled, grid, Integration::Trapz), block, 0.02 * block);
+    // Each wall falls between two nodes here (9.5 is ground, 9.75 the top): the trapezoids across
+    // them count half a node's width of it short, 1.1 % at each edge.
+    EXPECT_NEAR(integrate(walled, grid, Integration::Trapz), block, 0.025 * block);
     EXPECT_DOUBLE_EQ(walled.at<double>(2, 4 * 8), 0.0);   // u = 8, inside the hidden band: ground
+    EXPECT_DOUBLE_EQ(walled.at<double>(2, 4 * 9 + 3), 50.0);  // u = 9.75, within half a pixel of the top
+    EXPECT_DOUBLE_EQ(walled.at<double>(2, 4 * 9 + 1), 0.0);   // u = 9.25, beyond it
     EXPECT_DOUBLE_EQ(walled.at<double>(2, 4 * 15), 50.0);  // the top is untouched
 }
 
@@ -115,7 +122,9 @@ TEST(HeightGrid, SeenAtAnAngleTheHiddenBandLiesAlongTheLineOfSight) {
     for (int y = 0; y < cloud.rows; ++y)
         for (int x = 0; x < cloud.cols; ++x) cloud.at<cv::Vec3d>(y, x) = {columns[x].first, double(y), columns[x].second};
     const GridSpec grid = makeGrid(0, 80, 0, 5, 0.25);
-    const double block = 50.0 * 10.0 * 5.0;
+    // The top seen from 10.01 to 20.01: on its near side the ground's last pixel is beside it, on
+    // its far side it ends half a pixel beyond its last one.
+    const double block = 50.0 * 10.5 * 5.0;
     // The eye 800 mm away along (-1, 0, 1) / sqrt(2) from the hidden band's middle, over the plane.
     const cv::Vec3d eye = cv::Vec3d(45, 2.5, 25) + 800.0 * cv::Vec3d(-1, 0, 1) / std::sqrt(2.0);
     const cv::Mat normalOnly = interpolateLattice(cloud, grid, {4.0, 8.0});
