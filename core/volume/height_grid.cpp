@@ -118,20 +118,21 @@ cv::Mat interpolateLattice(const cv::Mat& planePoints, const GridSpec& grid, con
         };
         const bool step = steps.stepSlope > 0 && (rises(a, b) || rises(b, c) || rises(a, c));
         const double lowest = std::min({a[2], b[2], c[2]});
-        const double highest = std::max({a[2], b[2], c[2]});
-        // The corners on the near surface: within a step of the highest.
-        const cv::Vec3d* corners[3] = {&a, &b, &c};
-        const cv::Vec3d* near[3] = {nullptr, nullptr, nullptr};
+        // The corners on the near surface, within a step of the highest: one or two, since a step
+        // rises by more than that (only a step's nodes ask).
+        const cv::Vec3d* near[2] = {nullptr, nullptr};
         int nearCount = 0;
-        for (const cv::Vec3d* corner : corners)
-            if (highest - (*corner)[2] <= steps.stepMinMm) near[nearCount++] = corner;
+        if (step) {
+            const double highest = std::max({a[2], b[2], c[2]});
+            for (const cv::Vec3d* corner : {&a, &b, &c})
+                if (highest - (*corner)[2] <= steps.stepMinMm && nearCount < 2) near[nearCount++] = corner;
+        }
         // A step's node on the near surface when it lies within half the spacing of the near
         // corner (or of the edge between the two near corners), the far surface's beyond: the
         // near surface ends in a wall at its own edge, which lies half a pixel beyond its last
         // pixel on average. The lowest corner for every node left a ring of half a pixel of every
         // block's top out (its height times half a pixel along its perimeter, 2 % of a block).
         auto stepHeight = [&](double px, double py) {
-            if (nearCount == 0 || nearCount == 3) return lowest;
             const cv::Vec3d& p0 = *near[0];
             const cv::Vec3d& p1 = nearCount == 2 ? *near[1] : p0;
             const double ex = p1[0] - p0[0], ey = p1[1] - p0[1], length2 = ex * ex + ey * ey;
