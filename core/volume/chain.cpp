@@ -31,6 +31,7 @@
 #include "core/stereo/matcher.hpp"
 #include "core/volume/background_light.hpp"
 #include "core/volume/beyond_outline.hpp"
+#include "core/volume/drawn_outline.hpp"
 #include "core/volume/edge_blur.hpp"
 #include "core/volume/height_grid.hpp"
 #include "core/volume/ice_mask.hpp"
@@ -198,8 +199,13 @@ struct VolumeChain::Impl {
     MatchRegion followUpRegion(const Surface& baseline) const;
     // What the estimate needs of a baseline alone, from its points.
     std::shared_ptr<const BaselineModel> baselineModel(const Surface& baseline, const cv::Mat& points) const;
-    // A baseline with a configured outline: its region and band from a coarse pass (match_region.hpp).
-    MatchRegion coarseRegion(const StereoPair& raw);
+    // A baseline with a configured outline: its region and band from a coarse pass (match_region.hpp),
+    // over the object the outline holds (drawn_outline.hpp), which it sets in `drawn`.
+    MatchRegion coarseRegion(const StereoPair& raw, DrawnOutline& drawn);
+    // The object inside the configured outline, as the baseline's left eye `grey` shows it.
+    DrawnOutline drawnObject(const cv::Mat& grey) const {
+        return objectInDrawnOutline(polygonRoi, grey, parameters.outlineMinTextureGrey, parameters.outlineMinContrastGrey);
+    }
     // `disparity` (the matcher's window) measured again on slanted windows over the region's box
     // (slanted_refinement.hpp): the matcher's windows face the camera and its aggregation reaches
     // 35 px, so on a curved or turned surface it leaves a staircase, and beside the ice it pushes
@@ -283,8 +289,10 @@ Surface VolumeChain::Impl::measure(StereoPair raw, const Surface* baseline) {
     // A baseline may be matched anywhere: the whole rectification maps (built again when an
     // earlier baseline left only its region's).
     if (!baseline) rectifier.focus(cv::Rect({0, 0}, size));
+    std::optional<DrawnOutline> drawn;  // a baseline's, when a coarse pass found it
     if (!baseline && !polygonRoi.empty() && parameters.matchRegion) {
-        region = coarseRegion(raw);
+        drawn.emplace();
+        region = coarseRegion(raw, *drawn);
         timer.lap("coarse");
     }
     // The matcher's window: the region's box and, to its left, the band's reach into the right eye.
@@ -328,10 +336,15 @@ Surface VolumeChain::Impl::measure(StereoPair raw, const Surface* baseline) {
     // different one, and the estimate measures inside the baseline's anyway.
     // A baseline's points: its segmentation and its model read them; nothing keeps them.
     const cv::Mat points = baseline ? cv::Mat() : reproject(s.disparity, calibration.Q, window);
-    if (!polygonRoi.empty()) s.roi = polygonRoi.clone();
-    else if (baseline) {
+    if (baseline) {
         s.roi = baseline->roi.clone();
         s.roiSegmented = baseline->roiSegmented;
+        s.outlineBackgroundPercent = baseline->outlineBackgroundPercent;
+    } else if (!polygonRoi.empty()) {
+        // The outline as drawn, less the background a loosely drawn one holds.
+        if (!drawn) drawn = drawnObject(s.leftGrey);
+        s.roi = std::move(drawn->object);
+        s.outlineBackgroundPercent = drawn->backgroundPercent;
     }
     else {
         s.roi = segmentRoi(points, parameters.segmentationBandMm);
@@ -423,14 +436,19 @@ void VolumeChain::Impl::refineOnSlantedWindows(const cv::Mat& left, const cv::Ma
     refineSlanted(left, right, area, slanted, disparity, where);
 }
 
-MatchRegion VolumeChain::Impl::coarseRegion(const StereoPair& raw) {
+MatchRegion VolumeChain::Impl::coarseRegion(const StereoPair& raw, DrawnOutline& drawn) {
     const int reach = matcherReachPx(parameters.stereoMethod, matcher.parameters());
     const cv::Size size = rectifier.imageSize();
     const cv::Rect window = coarseWindow(polygonRoi, parameters.maxDisparity, reach, kCoarseFactor);
     const StereoPair rectified = rectifier.rectify(raw, window);
+    // The band is the object's: a loosely drawn outline's sky holds what lies far behind it (clouds
+    // the matcher finds at a few pixels), and a band down to them let the matcher put the blade's
+    // faint texture at 8 m.
+    const cv::Mat fullLeft = toFloatGrey(rectified.left);
+    drawn = drawnObject(placedInFrame(fullLeft, window, size, 0.0f));
     const double scale = 1.0 / kCoarseFactor;
     cv::Mat left, right;
-    cv::resize(toFloatGrey(rectified.left), left, {}, scale, scale, cv::INTER_AREA);
+    cv::resize(fullLeft, left, {}, scale, scale, cv::INTER_AREA);
     cv::resize(toFloatGrey(rectified.right), right, {}, scale, scale, cv::INTER_AREA);
     const int coarseMax = std::min(parameters.maxDisparity / kCoarseFactor, left.cols - 1);
     if (coarseMax < stereo::kMinDisparityBand) return {};
@@ -439,7 +457,7 @@ MatchRegion VolumeChain::Impl::coarseRegion(const StereoPair& raw) {
     cv::resize(coarse, up, window.size(), 0, 0, cv::INTER_NEAREST);
     up *= kCoarseFactor;  // invalid stays negative
     try {
-        return baselineRegionFromCoarse(placedInFrame(up, window, size, stereo::kInvalidDisparity), polygonRoi,
+        return baselineRegionFromCoarse(placedInFrame(up, window, size, stereo::kInvalidDisparity), drawn.object,
                                         cv::Matx44d(calibration.Q), focalPx, parameters, reach, kCoarseFactor);
     } catch (const InvalidInput&) {
         return {};  // nothing valid in the outline at the coarse scale: the whole frame, as without one
@@ -486,6 +504,7 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
             return refused(result, problem.str());
         }
     }
+    result.outlineBackgroundPercent = baseline.outlineBackgroundPercent;
     result.baselineContrast = baseline.quality.contrast;
     result.currentContrast = current.quality.contrast;
     for (const auto& [surface, which] : {std::pair{&baseline, "baseline"}, std::pair{&current, "current"}}) {

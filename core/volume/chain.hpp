@@ -45,6 +45,8 @@ struct Surface {
     std::string regionProblem;
     // The region was found by depth, no outline having been drawn (or kept from a baseline's).
     bool roiSegmented = false;
+    // Of an outline drawn around the object, the background it held and was left out (drawn_outline.hpp).
+    double outlineBackgroundPercent = 0;
     // The scene's shift took the region out of the matched box but the region was not found there
     // either: said beside the registration's reason when it then finds no evidence, unless the
     // object's texture was found again where it was.
@@ -102,6 +104,7 @@ struct VolumeResult {
     double seenThroughMm3 = 0;
     double glimpsedThroughMm3 = 0;  // read where the texture was only glimpsed through ice (seen_through.hpp)
     double iceMaskPercent = 0;   // of the region
+    double outlineBackgroundPercent = 0;  // of the drawn outline, background left out of the region
     double matcherPushPx = 0;    // the matcher's change against the tracks' on clean texture (matcher_push.hpp)
     double matcherPushSigmaPx = 0;  // and its standard error
     Timings timingsMs;

@@ -288,6 +288,7 @@ void addVolumeCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunctio
                 out["seen_through_mm3"] = r.seenThroughMm3;
                 out["glimpsed_through_mm3"] = r.glimpsedThroughMm3;
                 out["ice_mask_percent"] = r.iceMaskPercent;
+                out["outline_background_percent"] = r.outlineBackgroundPercent;
                 out["matcher_push_px"] = r.matcherPushPx;
                 out["matcher_push_sigma_px"] = r.matcherPushSigmaPx;
                 out["filled_percent"] = r.filledPercent;
