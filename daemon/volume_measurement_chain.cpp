@@ -6,6 +6,7 @@
 #include "core/common/error.hpp"
 #include "core/pictures/measurement_pictures.hpp"
 #include "daemon/sha256.hpp"
+#include "drivers/log/log.hpp"
 
 namespace icewatch::daemon {
 
@@ -46,6 +47,12 @@ ChainResult VolumeMeasurementChain::setBaseline(StereoPair clean) {
                            "baseline has " + std::to_string(static_cast<int>(surface.validPercent)) +
                                " % valid disparities in the region, " +
                                std::to_string(static_cast<int>(minValidPercent_)) + " % needed");
+        }
+        if (surface.outlineBackgroundPercent > 0) {
+            // Said once per baseline: the engineer who drew the outline sees what the chain made of it.
+            log::get("chain")->info("the drawn outline (volume.roi_polygon) held {:.1f} % featureless background, "
+                                    "left out of the region up to the object's edge",
+                                    surface.outlineBackgroundPercent);
         }
         baseline_ = std::move(surface);
     } catch (const InvalidInput& e) {
