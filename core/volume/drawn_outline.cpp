@@ -40,23 +40,8 @@ cv::Mat localMean(const cv::Mat& values, const cv::Mat& where, int r) {
     return mean;
 }
 
-// 1.4826 times the median absolute value of `values` over `where`: the noise's σ, robustly.
-double robustSpread(const cv::Mat& values, const cv::Mat& where) {
-    std::vector<float> v;
-    for (int y = 0; y < values.rows; ++y) {
-        const float* d = values.ptr<float>(y);
-        const auto* in = where.ptr<std::uint8_t>(y);
-        for (int x = 0; x < values.cols; ++x)
-            if (in[x]) v.push_back(std::abs(d[x]));
-    }
-    if (v.empty()) return 0.0;
-    auto middle = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-    std::nth_element(v.begin(), middle, v.end());
-    return 1.4826 * *middle;
-}
-
-// The median of `values` over `where`.
-double median(const cv::Mat& values, const cv::Mat& where) {
+// The values of `values` (CV_32F) where `where` (CV_8U) is set.
+std::vector<float> valuesWhere(const cv::Mat& values, const cv::Mat& where) {
     std::vector<float> v;
     for (int y = 0; y < values.rows; ++y) {
         const float* d = values.ptr<float>(y);
@@ -64,10 +49,22 @@ double median(const cv::Mat& values, const cv::Mat& where) {
         for (int x = 0; x < values.cols; ++x)
             if (in[x]) v.push_back(d[x]);
     }
+    return v;
+}
+
+// The median of `v` (0 when empty).
+double median(std::vector<float> v) {
     if (v.empty()) return 0.0;
     auto middle = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
     std::nth_element(v.begin(), middle, v.end());
     return *middle;
+}
+
+// 1.4826 times the median absolute value of `values` over `where`: the noise's σ, robustly.
+double robustSpread(const cv::Mat& values, const cv::Mat& where) {
+    std::vector<float> v = valuesWhere(values, where);
+    for (float& x : v) x = std::abs(x);
+    return 1.4826 * median(std::move(v));
 }
 
 }  // namespace
@@ -111,7 +108,7 @@ DrawnOutline objectInDrawnOutline(const cv::Mat& drawn, const cv::Mat& grey, dou
     // featureless part of it must not lead the flood into the object.
     const cv::Mat residual = grey - smooth;
     const double noise = robustSpread(residual, ringFeatureless);
-    const double backgroundLevel = median(smooth, ringFeatureless);
+    const double backgroundLevel = median(valuesWhere(smooth, ringFeatureless));
     const cv::Mat offset = smooth - backgroundLevel;
     const double spread = robustSpread(offset, ringFeatureless);
     const float tolerance = static_cast<float>(std::max({minContrastGrey, 4.0 * noise, 3.0 * spread}));
