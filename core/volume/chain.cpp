@@ -11,7 +11,8 @@
 //
 // Stages, as the seed paper's section 2.2 with registration and an error budget added, one file
 // each:
-//   measureSurface: split → rectify → match → tracking images → region → image quality
+//   measureSurface: split → rectify → match → tracking images → region (drawn_outline, raised_object)
+//                   → image quality
 //   estimate:       gate → reproject (Q) → plane frame → texture tracks (texture_tracks) → motion (motion_evidence)
 //                   → ice mask (ice_mask) → both clouds on the plane, k-NN filter (plane_clouds)
 //                   → grid, thickness (thickness_map) → integrate (trapz | sum) → uncertainty
@@ -40,6 +41,7 @@
 #include "core/volume/motion_evidence.hpp"
 #include "core/volume/outline_growth.hpp"
 #include "core/volume/plane_clouds.hpp"
+#include "core/volume/raised_object.hpp"
 #include "core/volume/registration.hpp"
 #include "core/volume/roi.hpp"
 #include "core/volume/seen_through.hpp"
@@ -343,8 +345,11 @@ Surface VolumeChain::Impl::measure(StereoPair raw, const Surface* baseline) {
     } else if (!polygonRoi.empty()) {
         // The outline as drawn, less the background a loosely drawn one holds.
         if (!drawn) drawn = drawnObject(s.leftGrey);
-        s.roi = std::move(drawn->object);
-        s.outlineBackgroundPercent = drawn->backgroundPercent;
+        // And less the margin of a textured background it holds, where the object stands above it.
+        const RaisedObject raised = objectAboveItsBackground(drawn->object, points);
+        s.roi = raised.object;
+        s.outlineBackgroundPercent =
+            100.0 - (100.0 - drawn->backgroundPercent) * (100.0 - raised.backgroundPercent) / 100.0;
     }
     else {
         s.roi = segmentRoi(points, parameters.segmentationBandMm);

@@ -23,6 +23,8 @@ constexpr int kEdgeReachPx = 4;
 constexpr int kMinBackgroundPixels = 25;
 // The ring outside the drawn outline whose look says what it was drawn over.
 constexpr int kRingPx = 6;
+// A part of what is left smaller than this fraction of the largest is a speck the flood went round.
+constexpr int kSpeckShareOfLargest = 50;
 
 // Mean of `values` over `where` within a (2r+1)² window; NaN where the window holds none.
 cv::Mat localMean(const cv::Mat& values, const cv::Mat& where, int r) {
@@ -139,20 +141,9 @@ DrawnOutline objectInDrawnOutline(const cv::Mat& drawn, const cv::Mat& grey, dou
         if (!grew) break;
     }
 
-    cv::Mat object = drawn & ~background;
     // What is left of the object is its parts that hold some of it, not specks the flood went round.
-    cv::Mat labels, stats, centroids;
-    const int parts = cv::connectedComponentsWithStats(object, labels, stats, centroids, 8);
-    int largest = 0;
-    for (int k = 1; k < parts; ++k) largest = std::max(largest, stats.at<int>(k, cv::CC_STAT_AREA));
-    if (largest == 0) return out;  // all of it looks like background: leave the outline as drawn
-    std::vector<std::uint8_t> keep(static_cast<std::size_t>(parts), 0);
-    for (int k = 1; k < parts; ++k) keep[k] = stats.at<int>(k, cv::CC_STAT_AREA) * 50 >= largest ? 255 : 0;
-    for (int y = 0; y < object.rows; ++y) {
-        const int* l = labels.ptr<int>(y);
-        auto* o = object.ptr<std::uint8_t>(y);
-        for (int x = 0; x < object.cols; ++x) o[x] = keep[static_cast<std::size_t>(l[x])];
-    }
+    const cv::Mat object = largeParts(drawn & ~background, kSpeckShareOfLargest);
+    if (cv::countNonZero(object) == 0) return out;  // all of it looks like background: leave the outline as drawn
     out.backgroundPercent = 100.0 * (drawnPixels - cv::countNonZero(object)) / drawnPixels;
     out.object = object;
     return out;

@@ -1,6 +1,7 @@
 // Connected parts of a mask (mask_parts.hpp).
 #include "core/volume/mask_parts.hpp"
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -26,6 +27,23 @@ cv::Mat partsHolding(const cv::Mat& mask, const cv::Mat& seeds, int connectivity
         std::uint8_t* part = parts.ptr<std::uint8_t>(y);
         for (int x = 0; x < labels.cols; ++x)
             if (held[static_cast<std::size_t>(label[x])]) part[x] = 255;
+    }
+    return parts;
+}
+
+cv::Mat largeParts(const cv::Mat& mask, int ofLargest) {
+    CV_Assert(mask.type() == CV_8UC1 && ofLargest >= 1);
+    cv::Mat labels, stats, centroids;
+    const int n = cv::connectedComponentsWithStats(mask, labels, stats, centroids, 8);
+    int largest = 0;
+    for (int k = 1; k < n; ++k) largest = std::max(largest, stats.at<int>(k, cv::CC_STAT_AREA));
+    std::vector<std::uint8_t> keep(static_cast<std::size_t>(n), 0);
+    for (int k = 1; k < n; ++k) keep[static_cast<std::size_t>(k)] = stats.at<int>(k, cv::CC_STAT_AREA) * ofLargest >= largest ? 255 : 0;
+    cv::Mat parts(mask.size(), CV_8U);
+    for (int y = 0; y < labels.rows; ++y) {
+        const int* label = labels.ptr<int>(y);
+        std::uint8_t* part = parts.ptr<std::uint8_t>(y);
+        for (int x = 0; x < labels.cols; ++x) part[x] = keep[static_cast<std::size_t>(label[x])];
     }
     return parts;
 }

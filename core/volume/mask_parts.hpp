@@ -8,4 +8,9 @@ namespace icewatch::volume {
 // size), whole: a morphological reconstruction. connectivity 4 or 8.
 cv::Mat partsHolding(const cv::Mat& mask, const cv::Mat& seeds, int connectivity = 8);
 
+// The 8-connected parts of `mask` (CV_8U) holding at least 1/`ofLargest` of the largest one's
+// pixels, whole: what is left of an object once its background is taken out, without the specks a
+// flood went round. Empty (all zero) when `mask` is.
+cv::Mat largeParts(const cv::Mat& mask, int ofLargest);
+
 }  // namespace icewatch::volume

@@ -24,5 +24,18 @@ TEST(MaskParts, ASeedKeepsItsWholePartAndNoOther) {
     EXPECT_EQ(cv::countNonZero(partsHolding(mask, cv::Mat::zeros(20, 20, CV_8U))), 0);
 }
 
+// Parts at least 1/n of the largest are kept whole, smaller ones dropped; an empty mask stays empty.
+TEST(MaskParts, LargePartsKeepsThoseNearTheLargestsSize) {
+    cv::Mat mask = cv::Mat::zeros(40, 40, CV_8U);
+    mask(cv::Rect(2, 2, 10, 10)).setTo(255);   // 100 px, the largest
+    mask(cv::Rect(20, 2, 5, 4)).setTo(255);    // 20 px: a fifth of it
+    mask(cv::Rect(30, 30, 3, 3)).setTo(255);   // 9 px
+    const cv::Mat kept = largeParts(mask, 5);
+    EXPECT_EQ(cv::countNonZero(kept), 100 + 20);
+    EXPECT_EQ(cv::countNonZero(kept(cv::Rect(30, 30, 3, 3))), 0);
+    EXPECT_EQ(cv::countNonZero(largeParts(mask, 20)), 100 + 20 + 9);
+    EXPECT_EQ(cv::countNonZero(largeParts(cv::Mat::zeros(8, 8, CV_8U), 2)), 0);
+}
+
 }  // namespace
 }  // namespace icewatch::volume
