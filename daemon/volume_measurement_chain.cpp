@@ -50,8 +50,8 @@ ChainResult VolumeMeasurementChain::setBaseline(StereoPair clean) {
         }
         if (surface.outlineBackgroundPercent > 0) {
             // Said once per baseline: the engineer who drew the outline sees what the chain made of it.
-            log::get("chain")->info("the drawn outline (volume.roi_polygon) held {:.1f} % featureless background, "
-                                    "left out of the region up to the object's edge",
+            log::get("chain")->info("the drawn outline (volume.roi_polygon) held {:.1f} % background (featureless "
+                                    "sky beside the object, or a table it stands above), left out of the region",
                                     surface.outlineBackgroundPercent);
         }
         baseline_ = std::move(surface);

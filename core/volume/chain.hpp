@@ -45,7 +45,8 @@ struct Surface {
     std::string regionProblem;
     // The region was found by depth, no outline having been drawn (or kept from a baseline's).
     bool roiSegmented = false;
-    // Of an outline drawn around the object, the background it held and was left out (drawn_outline.hpp).
+    // Of an outline drawn around the object, the background it held and was left out (drawn_outline.hpp,
+    // raised_object.hpp).
     double outlineBackgroundPercent = 0;
     // The scene's shift took the region out of the matched box but the region was not found there
     // either: said beside the registration's reason when it then finds no evidence, unless the
