@@ -346,8 +346,8 @@ Surface VolumeChain::Impl::measure(StereoPair raw, const Surface* baseline) {
         // The outline as drawn, less the background a loosely drawn one holds.
         if (!drawn) drawn = drawnObject(s.leftGrey);
         // And less the margin of a textured background it holds, where the object stands above it.
-        const RaisedObject raised = objectAboveItsBackground(drawn->object, points);
-        s.roi = raised.object;
+        RaisedObject raised = objectAboveItsBackground(drawn->object, points);
+        s.roi = std::move(raised.object);
         s.outlineBackgroundPercent =
             100.0 - (100.0 - drawn->backgroundPercent) * (100.0 - raised.backgroundPercent) / 100.0;
     }

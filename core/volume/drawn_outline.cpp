@@ -23,8 +23,6 @@ constexpr int kEdgeReachPx = 4;
 constexpr int kMinBackgroundPixels = 25;
 // The ring outside the drawn outline whose look says what it was drawn over.
 constexpr int kRingPx = 6;
-// A part of what is left smaller than this fraction of the largest is a speck the flood went round.
-constexpr int kSpeckShareOfLargest = 50;
 
 // Mean of `values` over `where` within a (2r+1)² window; NaN where the window holds none.
 cv::Mat localMean(const cv::Mat& values, const cv::Mat& where, int r) {

@@ -13,4 +13,9 @@ cv::Mat partsHolding(const cv::Mat& mask, const cv::Mat& seeds, int connectivity
 // flood went round. Empty (all zero) when `mask` is.
 cv::Mat largeParts(const cv::Mat& mask, int ofLargest);
 
+// What the region's stages keep of an outline once a background is taken out of it
+// (drawn_outline, raised_object): a part smaller than 1/this of the largest is a speck the flood
+// went round.
+inline constexpr int kSpeckShareOfLargest = 50;
+
 }  // namespace icewatch::volume

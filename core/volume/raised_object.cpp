@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -20,8 +21,6 @@ namespace {
 constexpr int kPlaneRounds = 3;
 // Points farther from the plane than this many σ are trimmed in the next round.
 constexpr double kTrimSigmas = 3.0;
-// A part of what is left smaller than this fraction of the largest is a speck the flood went round.
-constexpr int kSpeckShareOfLargest = 50;
 
 double medianOf(std::vector<double> v) {
     if (v.empty()) return 0.0;
@@ -48,8 +47,8 @@ BackgroundPlane fitBackgroundPlane(const std::vector<cv::Vec3d>& ring) {
         for (const cv::Vec3d& p : ring) residual.push_back(std::abs(out.plane.toPlane(p).z));
         out.sigmaMm = 1.4826 * medianOf(residual);
         std::vector<cv::Vec3d> next;
-        for (const cv::Vec3d& p : ring)
-            if (std::abs(out.plane.toPlane(p).z) <= kTrimSigmas * out.sigmaMm) next.push_back(p);
+        for (std::size_t i = 0; i < ring.size(); ++i)
+            if (residual[i] <= kTrimSigmas * out.sigmaMm) next.push_back(ring[i]);
         if (next.size() < 3) break;
         kept = std::move(next);
     }
