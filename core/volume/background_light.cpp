@@ -7,6 +7,8 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "core/volume/robust_statistics.hpp"
+
 namespace icewatch::volume {
 
 std::optional<double> backgroundLightRatio(const cv::Mat& baselineGrey, const cv::Mat& currentGrey, const cv::Mat& roi,
@@ -46,12 +48,11 @@ std::string objectLightNote(const std::vector<TextureTrack>& tracks, std::option
     for (const TextureTrack& t : tracks)
         if (t.onObject && t.state != TextureTrack::State::Untracked) ratios.push_back(t.brightnessRatio);
     if (ratios.empty()) return {};
-    const auto mid = ratios.begin() + static_cast<std::ptrdiff_t>(ratios.size() / 2);
-    std::nth_element(ratios.begin(), mid, ratios.end());
-    if (std::abs(*mid / *lightRatio - 1.0) <= maxChange) return {};
+    const double objectRatio = median(std::move(ratios));
+    if (std::abs(objectRatio / *lightRatio - 1.0) <= maxChange) return {};
     std::ostringstream note;
     note.precision(3);
-    note << "the object's texture changed its brightness by " << 100.0 * (*mid - 1.0) << " %, its background by "
+    note << "the object's texture changed its brightness by " << 100.0 * (objectRatio - 1.0) << " %, its background by "
          << 100.0 * (*lightRatio - 1.0) << " %: a layer of ice over all of it, or light on the object alone";
     return note.str();
 }

@@ -14,6 +14,7 @@
 
 #include "core/common/error.hpp"
 #include "core/health/image_health.hpp"
+#include "core/volume/robust_statistics.hpp"
 
 namespace icewatch::volume {
 
@@ -83,17 +84,13 @@ double changedPercent(const cv::Mat& a, const cv::Mat& b) {
         const float* row = diff.ptr<float>(y);
         for (int x = 0; x < diff.cols; x += kStride) values.push_back(row[x]);
     }
-    const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-    std::nth_element(values.begin(), mid, values.end());
-    const float median = *mid;
-    for (float& v : values) v = std::abs(v - median);
-    std::nth_element(values.begin(), mid, values.end());
-    const double sigma = std::max(0.5, 1.4826 * *mid);
+    const float centre = median(values);
+    const double sigma = std::max(0.5, spreadAbout(std::move(values), centre));
     const double cut = 6.0 * sigma;
     std::size_t count = 0;
     for (int y = 0; y < diff.rows; ++y) {
         const float* row = diff.ptr<float>(y);
-        for (int x = 0; x < diff.cols; ++x) count += std::abs(row[x] - median) > cut ? 1 : 0;
+        for (int x = 0; x < diff.cols; ++x) count += std::abs(row[x] - centre) > cut ? 1 : 0;
     }
     return 100.0 * static_cast<double>(count) / static_cast<double>(diff.total());
 }

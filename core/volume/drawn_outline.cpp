@@ -10,6 +10,7 @@
 
 #include "core/volume/mask_parts.hpp"
 #include "core/volume/patch_tracker.hpp"
+#include "core/volume/robust_statistics.hpp"
 
 namespace icewatch::volume {
 
@@ -52,21 +53,6 @@ std::vector<float> valuesWhere(const cv::Mat& values, const cv::Mat& where) {
     return v;
 }
 
-// The median of `v` (0 when empty).
-double median(std::vector<float> v) {
-    if (v.empty()) return 0.0;
-    auto middle = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-    std::nth_element(v.begin(), middle, v.end());
-    return *middle;
-}
-
-// 1.4826 times the median absolute value of `values` over `where`: the noise's σ, robustly.
-double robustSpread(const cv::Mat& values, const cv::Mat& where) {
-    std::vector<float> v = valuesWhere(values, where);
-    for (float& x : v) x = std::abs(x);
-    return 1.4826 * median(std::move(v));
-}
-
 }  // namespace
 
 DrawnOutline objectInDrawnOutline(const cv::Mat& drawn, const cv::Mat& grey, double minTextureGrey,
@@ -107,10 +93,10 @@ DrawnOutline objectInDrawnOutline(const cv::Mat& drawn, const cv::Mat& grey, dou
     // Its brightness: where the outline cuts across the object, the ring is the object's, and a
     // featureless part of it must not lead the flood into the object.
     const cv::Mat residual = grey - smooth;
-    const double noise = robustSpread(residual, ringFeatureless);
+    const double noise = spreadAboutZero(valuesWhere(residual, ringFeatureless));
     const double backgroundLevel = median(valuesWhere(smooth, ringFeatureless));
     const cv::Mat offset = smooth - backgroundLevel;
-    const double spread = robustSpread(offset, ringFeatureless);
+    const double spread = spreadAboutZero(valuesWhere(offset, ringFeatureless));
     const float tolerance = static_cast<float>(std::max({minContrastGrey, 4.0 * noise, 3.0 * spread}));
     const cv::Mat likeBackground = featureless & (cv::abs(offset) <= tolerance);
     // The background is what it reaches from outside the outline without crossing texture or an edge.

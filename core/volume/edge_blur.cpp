@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/volume/outline_stations.hpp"
+#include "core/volume/robust_statistics.hpp"
 
 namespace icewatch::volume {
 
@@ -31,7 +32,7 @@ std::optional<double> outlineBlurPx(const cv::Mat& grey, const cv::Mat& roi, con
             profileAcross(grey, valid, station.at, station.outward, o.halfLengthPx, o.halfLengthPx, kStepPx);
         if (p.empty()) continue;
         const std::vector<double> inside(p.begin(), p.begin() + quarter), outside(p.end() - quarter, p.end());
-        const double step = stationMedian(outside) - stationMedian(inside);
+        const double step = median(outside) - median(inside);
         if (std::abs(step) < o.minStepGrey) continue;
         // The steepest rise over a pixel, the way the step goes, between the outer quarters.
         double slope = 0;
@@ -42,7 +43,7 @@ std::optional<double> outlineBlurPx(const cv::Mat& grey, const cv::Mat& roi, con
         sigmas.push_back(std::abs(step) / (slope * std::sqrt(2.0 * kPi)));
     }
     if (static_cast<int>(sigmas.size()) < o.minStations) return std::nullopt;
-    return stationMedian(sigmas);
+    return median(sigmas);
 }
 
 }  // namespace icewatch::volume

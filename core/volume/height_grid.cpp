@@ -10,6 +10,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/common/error.hpp"
+#include "core/volume/robust_statistics.hpp"
 
 namespace icewatch::volume {
 
@@ -77,9 +78,7 @@ double latticeSpacing(const cv::Mat& planePoints, double stepMm) {
         }
     }
     if (distances.empty()) return 0.0;
-    const auto mid = distances.begin() + static_cast<std::ptrdiff_t>(distances.size() / 2);
-    std::nth_element(distances.begin(), mid, distances.end());
-    return *mid;
+    return median(std::move(distances));
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/volume/match_region.hpp"
+#include "core/volume/robust_statistics.hpp"
 
 namespace icewatch::volume {
 
@@ -38,9 +39,7 @@ cv::Mat clipped(const cv::Mat& texture) {
         for (int x = 0; x < texture.cols; ++x) magnitudes.push_back(std::abs(row[x]));
     }
     if (magnitudes.empty()) return texture.clone();
-    const auto mid = magnitudes.begin() + static_cast<std::ptrdiff_t>(magnitudes.size() / 2);
-    std::nth_element(magnitudes.begin(), mid, magnitudes.end());
-    const double bound = kClipSpreads * 1.4826 * *mid;
+    const double bound = kClipSpreads * kMadToSigma * median(std::move(magnitudes));
     cv::Mat out;
     cv::min(texture, bound, out);
     cv::max(out, -bound, out);
@@ -106,9 +105,7 @@ double medianTileCorrelation(const cv::Mat& from, const cv::Mat& to, const cv::M
             tiles.push_back(maskedCorrelation(clipped(from(tile)), clipped(movedBack(tile)), inside(tile)));
         }
     if (tiles.empty()) return maskedCorrelation(from, movedBack, inside);
-    const auto mid = tiles.begin() + static_cast<std::ptrdiff_t>(tiles.size() / 2);
-    std::nth_element(tiles.begin(), mid, tiles.end());
-    return *mid;
+    return median(std::move(tiles));
 }
 
 cv::Rect grownBox(const cv::Mat& mask, double motionPx) {

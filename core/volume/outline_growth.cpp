@@ -3,6 +3,7 @@
 #include "core/volume/outline_growth.hpp"
 
 #include "core/volume/outline_stations.hpp"
+#include "core/volume/robust_statistics.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -38,7 +39,7 @@ std::optional<double> coveredWidthPx(const std::vector<float>& profile, double s
     // The object's grey against the sky: the inner samples' median departure (its texture varies).
     std::vector<double> inner(static_cast<std::size_t>(insideSamples));
     for (int i = 0; i < insideSamples; ++i) inner[static_cast<std::size_t>(i)] = departure(i);
-    const double contrast = stationMedian(inner);
+    const double contrast = median(inner);
     if (!(std::abs(contrast) >= minContrastGrey)) return std::nullopt;
     double covered = 0;
     for (int i = insideSamples; i < n - skyFitSamples; ++i) covered += departure(i) / contrast;
@@ -93,7 +94,7 @@ OutlineGrowth outlineGrowth(const cv::Mat& baselineGrey, const cv::Mat& currentG
     }
     for (std::size_t side = 0; side < 2; ++side) {
         out.stations[side] = static_cast<int>(growth[side].size());
-        if (!growth[side].empty()) out.medianMm[side] = stationMedian(growth[side]);
+        if (!growth[side].empty()) out.medianMm[side] = median(growth[side]);
     }
     out.bothSidesChanged = out.stations[0] >= o.minStationsPerSide && out.stations[1] >= o.minStationsPerSide &&
                            std::abs(out.medianMm[0]) >= o.minChangeMm && std::abs(out.medianMm[1]) >= o.minChangeMm;

@@ -71,11 +71,4 @@ std::vector<float> profileAcross(const cv::Mat& image, const cv::Rect& valid, cv
     return profile;
 }
 
-double stationMedian(std::vector<double> values) {
-    CV_Assert(!values.empty());
-    const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-    std::nth_element(values.begin(), mid, values.end());
-    return *mid;
-}
-
 }  // namespace icewatch::volume

@@ -24,7 +24,4 @@ bool insideMask(const cv::Mat& mask, cv::Point2d at);
 std::vector<float> profileAcross(const cv::Mat& image, const cv::Rect& valid, cv::Point2d centre, cv::Point2d normal,
                                  double insidePx, double outsidePx, double stepPx);
 
-// The median of what the stations read (a profile's samples, or one reading per station).
-double stationMedian(std::vector<double> values);
-
 }  // namespace icewatch::volume

@@ -11,6 +11,7 @@
 
 #include "core/volume/height_grid.hpp"
 #include "core/volume/mask_parts.hpp"
+#include "core/volume/robust_statistics.hpp"
 
 namespace icewatch::volume {
 
@@ -21,13 +22,6 @@ namespace {
 constexpr int kPlaneRounds = 3;
 // Points farther from the plane than this many σ are trimmed in the next round.
 constexpr double kTrimSigmas = 3.0;
-
-double medianOf(std::vector<double> v) {
-    if (v.empty()) return 0.0;
-    auto middle = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-    std::nth_element(v.begin(), middle, v.end());
-    return *middle;
-}
 
 bool measured(const cv::Vec3f& p) { return !std::isnan(p[2]); }
 
@@ -45,7 +39,7 @@ BackgroundPlane fitBackgroundPlane(const std::vector<cv::Vec3d>& ring) {
         std::vector<double> residual;
         residual.reserve(ring.size());
         for (const cv::Vec3d& p : ring) residual.push_back(std::abs(out.plane.toPlane(p).z));
-        out.sigmaMm = 1.4826 * medianOf(residual);
+        out.sigmaMm = spreadAboutZero(residual);
         std::vector<cv::Vec3d> next;
         for (std::size_t i = 0; i < ring.size(); ++i)
             if (residual[i] <= kTrimSigmas * out.sigmaMm) next.push_back(ring[i]);
@@ -114,7 +108,7 @@ RaisedObject objectAboveItsBackground(const cv::Mat& outline, const cv::Mat& poi
             if (in[x] && d[x] >= o.stepFromPx && d[x] <= o.stepToPx && !std::isnan(h[x])) step.push_back(h[x]);
     }
     if (step.empty()) return out;
-    out.stepMm = medianOf(std::move(step));
+    out.stepMm = median(std::move(step));
     if (out.stepMm < std::max(o.minStepMm, o.stepTolerances * toleranceMm)) return out;
     out.object = object;
     out.backgroundPercent = 100.0 * (outlinePixels - cv::countNonZero(object)) / outlinePixels;

@@ -10,21 +10,9 @@
 
 #include "core/volume/mask_parts.hpp"
 #include "core/volume/patch_tracker.hpp"
+#include "core/volume/robust_statistics.hpp"
 
 namespace icewatch::volume {
-
-namespace {
-
-// 1.4826 times the median absolute value: the spread of differences centred on none.
-double robustSpread(std::vector<float> values) {
-    if (values.empty()) return 0.0;
-    for (float& v : values) v = std::abs(v);
-    auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-    std::nth_element(values.begin(), middle, values.end());
-    return 1.4826 * *middle;
-}
-
-}  // namespace
 
 cv::Mat backgroundHidden(const cv::Mat& baselineGrey, const cv::Mat& currentGrey, const cv::Mat& where,
                          double lightRatio, double minGrey) {
@@ -44,7 +32,7 @@ cv::Mat backgroundHidden(const cv::Mat& baselineGrey, const cv::Mat& currentGrey
             differences.push_back(d[x]);
         }
     }
-    const double threshold = std::max(minGrey, 4.0 * robustSpread(differences));
+    const double threshold = std::max(minGrey, 4.0 * spreadAboutZero(std::move(differences)));
     cv::Mat hidden = cv::abs(difference) > threshold;
     hidden &= where;
     // What stands in front of the background hides a patch of it, every pixel between the outline

@@ -9,6 +9,7 @@
 
 #include "core/common/fixed_bands.hpp"
 #include "core/volume/image_motion.hpp"
+#include "core/volume/robust_statistics.hpp"
 
 namespace icewatch::volume {
 
@@ -46,13 +47,6 @@ void forEachIndex(std::size_t n, const F& fn) {
     forEachFixedBand(n, [&](int, std::size_t begin, std::size_t end) {
         for (std::size_t i = begin; i < end; ++i) fn(i);
     });
-}
-
-double medianOf(std::vector<double> values) {
-    if (values.empty()) return 1.0;
-    const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-    std::nth_element(values.begin(), mid, values.end());
-    return *mid;
 }
 
 // The baseline's disparity at a sample, re-measured by a horizontal patch track from its left into
@@ -175,7 +169,7 @@ std::vector<TextureTrack> trackTexture(const BaselineSamples& samples, const Rec
         std::vector<double> ratios;
         for (const TextureTrack& t : tracks)
             if (t.state != TextureTrack::State::Untracked) ratios.push_back(t.brightnessRatio);
-        sceneRatio = medianOf(ratios);
+        if (!ratios.empty()) sceneRatio = median(std::move(ratios));
     }
     for (TextureTrack& t : tracks) {
         const bool brightnessChanged = std::abs(t.brightnessRatio / sceneRatio - 1.0) > o.maxBrightnessChange;

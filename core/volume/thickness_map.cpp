@@ -9,23 +9,13 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/volume/beyond_outline.hpp"
+#include "core/volume/robust_statistics.hpp"
 
 namespace icewatch::volume {
 
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-// 1.4826 times the median absolute deviation from the median; 0 for none.
-double robustSigma(std::vector<double> values) {
-    if (values.empty()) return 0.0;
-    auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-    std::nth_element(values.begin(), middle, values.end());
-    const double median = *middle;
-    for (double& v : values) v = std::abs(v - median);
-    std::nth_element(values.begin(), middle, values.end());
-    return 1.4826 * *middle;
-}
 
 // The grid over the region's outline, each outline pixel's ray met with the plane.
 GridSpec regionGrid(const cv::Mat& roi, const PlaneFrame& plane, const cv::Matx33d& k, double cellMm) {
@@ -180,7 +170,7 @@ ThicknessMap thicknessMap(const PlaneClouds& clouds, const cv::Mat& roi, const c
     // Where both captures saw a surface the rise is a difference of two measurements, as inside,
     // and its noise, read off its spread (robustly: the ice is the minority), must not pass for ice:
     // single-frame SGBM on the plate around a block read 54 000 mm3 of it at the 2 mm threshold.
-    const double noiseMm = robustSigma(seenRises);
+    const double noiseMm = spreadAboutMedian(std::move(seenRises));
     const double minRiseMm = std::max(p.outlineIceMinMm, 4.0 * noiseMm);
     // The ring starts edge_margin_px outside the outline: that many nodes may lie between the two.
     const double pixelMm = plane.origin[2] / k(0, 0);

@@ -8,6 +8,7 @@
 
 #include "core/volume/beyond_outline.hpp"
 #include "core/volume/rigid_motion.hpp"
+#include "core/volume/robust_statistics.hpp"
 
 namespace icewatch::volume {
 
@@ -59,9 +60,7 @@ double edgeIntegral(const ThicknessMap& map, double capMm = std::numeric_limits<
             if (!std::isnan(g)) gradients.push_back(g);
         }
     if (gradients.empty()) return 0.0;
-    std::vector<double> sorted = gradients;
-    std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2), sorted.end());
-    const double floor = sorted[sorted.size() / 2];
+    const double floor = median(gradients);
     double integral = 0;
     for (double g : gradients) integral += std::max(0.0, g - floor) * grid.areaPerNodeMm2();
     return integral;
