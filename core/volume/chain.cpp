@@ -44,6 +44,7 @@
 #include "core/volume/raised_object.hpp"
 #include "core/volume/registration.hpp"
 #include "core/volume/roi.hpp"
+#include "core/volume/row_texture.hpp"
 #include "core/volume/seen_through.hpp"
 #include "core/volume/silhouette.hpp"
 #include "core/volume/slanted_refinement.hpp"
@@ -751,6 +752,20 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
             result.cloudMm.push_back(cv::Vec3f(plane.toCamera(local[0], local[1], local[2])));
             result.cloudThicknessMm.push_back(onGrid ? static_cast<float>(map.thickness.at<double>(j, i)) : 0.0f);
         }
+    // --- ice whose depth the rows could not tell: carried over from around it, not measured ---
+    const RowTextureOptions rowTexture;
+    const FaintIce faint = faintIce(current.leftGrey, result.thicknessImageMm, rowTexture);
+    result.faintIcePercent = 100.0 * faint.share();
+    if (faint.unmeasured(rowTexture)) {
+        std::ostringstream reason;
+        reason.precision(3);
+        reason << "the ice's thickness is not measured: " << result.faintIcePercent << " % of the "
+               << faint.icePixels << " pixels where ice was read carry less texture along the image rows than "
+               << rowTexture.minGreyPerPx
+               << " grey levels per pixel (a blur, a tone curve or smooth, plain ice), so the matcher carried the depth of "
+                  "the surface around it over it and the ice may be much thicker than read";
+        return refused(result, reason.str());
+    }
     result.ok = true;
     timer.lap("gate");
     return result;

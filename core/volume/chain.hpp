@@ -96,6 +96,9 @@ struct VolumeResult {
     std::array<int, 2> outlineGrowthStations{0, 0};
     // How blurred the captures are, read off the outline (edge_blur.hpp), px; 0: not read.
     double blurPx = 0;
+    // Of the pixels where ice was read, the share whose texture along the rows is too faint for
+    // stereo to tell their depth (row_texture.hpp), %.
+    double faintIcePercent = 0;
     // The region's texture in the baseline and the current capture (image_quality.hpp: contrast).
     double baselineContrast = 0, currentContrast = 0;
     double iceAreaMm2 = 0;       // where thickness was integrated: possible ice, grown by the matcher's reach

@@ -229,6 +229,7 @@ void addVolumeCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunctio
                                {"outline_growth_mm", r.outlineGrowthMm},
                                {"outline_growth_stations", r.outlineGrowthStations},
                                {"outline_blur_px", r.blurPx},
+                               {"faint_ice_percent", r.faintIcePercent},
                                {"image_contrast", {{"baseline", r.baselineContrast}, {"current", r.currentContrast}}},
                                {"baseline_capture", captureJson(before)},
                                {"current_capture", captureJson(after)},

@@ -583,6 +583,32 @@ TEST(VolumeChain, FaintTextureThroughAPowerLawIsMeasuredOnATableAndRefusedAgains
     EXPECT_NE(r.reason.find("too faint to rest the motion on the object alone"), std::string::npos) << r.reason;
 }
 
+// A bead along the leading edge lies along the image rows: blurred by the lens and through a filmic
+// curve, its rows carry no texture, and the matcher carried the blade around it over it (-85 %,
+// `ok` outside +-94 425 mm3 at 16 frames, before the chain judged the texture along the rows).
+TEST(VolumeChain, ABeadWhoseRowsCarryNoTextureIsRefusedNotReadFlat) {
+    synth::SceneSpec spec = smallBladeSpec();
+    spec.frames = 16;
+    spec.seed = 381;
+    spec.iceVolumeMm3 = 257391;
+    spec.ice = synth::IceKind::Bead;
+    spec.background = synth::Background::Table;
+    spec.swingDeg = 3.1;
+    spec.textureContrast = 0.113;
+    spec.iceWhiteness = 0.57;
+    spec.motion = synth::MotionKind::Large;
+    spec.lightTurnDeg = 19.5;
+    spec.gloss = 0.10;
+    spec.sunAngleDeg = 63;
+    spec.blurPx = 1.76;
+    spec.toneCurve = synth::ToneCurve::Filmic;
+    const AveragedBlade b = measureAveragedBlade(spec, stereo::Method::Paper);
+    const VolumeResult& r = b.result;
+    EXPECT_FALSE(r.ok) << r.volumeMm3 << " +- " << r.uncertaintyMm3 << " against " << b.scene.iceVolumeMm3;
+    EXPECT_GT(r.faintIcePercent, 25.0);
+    EXPECT_NE(r.reason.find("texture along the image rows"), std::string::npos) << r.reason;
+}
+
 // Sheets of shed ice end in sharp steps, and stereo carries a step's nearer disparity over the
 // surface beside it; blurred by a lens out of focus, the step spreads and carries it further.
 // The outline shows how blurred the captures are, and the fattening the uncertainty allows grows
