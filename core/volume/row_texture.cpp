@@ -47,18 +47,42 @@ cv::Mat rowTextureGreyPerPx(const cv::Mat& grey, double noiseGrey, int radiusPx)
     return texture;
 }
 
-FaintIce faintIce(const cv::Mat& grey, const cv::Mat& thicknessMm, const RowTextureOptions& o) {
-    CV_Assert(thicknessMm.type() == CV_32FC1 && thicknessMm.size() == grey.size());
-    const cv::Mat read = thicknessMm == thicknessMm;  // not NaN
-    const cv::Mat texture = rowTextureGreyPerPx(grey, imageNoiseGrey(grey, read), o.radiusPx);
+FaintIce faintIce(const RowTextureInputs& in, const RowTextureOptions& o) {
+    const cv::Size size = in.currentGrey.size();
+    CV_Assert(in.baselineGrey.size() == size && in.baselineObject.size() == size && in.thicknessMm.size() == size);
+    CV_Assert(in.thicknessMm.type() == CV_32FC1 && in.baselineObject.type() == CV_8UC1);
+    // The noise is the image's, wherever on the object it is read (the object moved little).
+    const cv::Mat before =
+        rowTextureGreyPerPx(in.baselineGrey, imageNoiseGrey(in.baselineGrey, in.baselineObject), o.radiusPx);
+    const cv::Mat now =
+        rowTextureGreyPerPx(in.currentGrey, imageNoiseGrey(in.currentGrey, in.baselineObject), o.radiusPx);
+    cv::Mat lost = cv::Mat::zeros(size, CV_8U);
+    for (int y = 0; y < size.height; ++y) {
+        const std::uint8_t* object = in.baselineObject.ptr<std::uint8_t>(y);
+        const float* had = before.ptr<float>(y);
+        for (int x = 0; x < size.width; ++x) {
+            if (!object[x]) continue;
+            const cv::Point2d at = in.toCurrent({double(x), double(y)});
+            const int u = static_cast<int>(std::lround(at.x)), v = static_cast<int>(std::lround(at.y));
+            if (u < 0 || v < 0 || u >= size.width || v >= size.height) continue;
+            const float has = now.at<float>(v, u);
+            if (had[x] >= o.minGreyPerPx && has < o.minGreyPerPx && has < 0.5 * in.lightRatio * had[x]) lost.at<std::uint8_t>(v, u) = 255;
+        }
+    }
     FaintIce out;
-    for (int y = 0; y < grey.rows; ++y) {
-        const float* t = thicknessMm.ptr<float>(y);
-        const float* g = texture.ptr<float>(y);
-        for (int x = 0; x < grey.cols; ++x) {
-            if (!(t[x] >= o.minIceMm)) continue;
-            ++out.icePixels;
-            if (g[x] < o.minGreyPerPx) ++out.faintPixels;
+    for (int y = 0; y < size.height; ++y) {
+        const float* t = in.thicknessMm.ptr<float>(y);
+        const float* g = now.ptr<float>(y);
+        const std::uint8_t* gone = lost.ptr<std::uint8_t>(y);
+        for (int x = 0; x < size.width; ++x) {
+            if (gone[x]) {
+                ++out.icePixels;
+                ++out.faintPixels;
+                ++out.lostPixels;
+            } else if (t[x] >= o.minIceMm) {
+                ++out.icePixels;
+                if (g[x] < o.minGreyPerPx) ++out.faintPixels;
+            }
         }
     }
     return out;
