@@ -1,8 +1,10 @@
 // Texture along the image rows where the ice was read (row_texture.hpp).
 #include "core/volume/row_texture.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <numbers>
 
 #include <opencv2/imgproc.hpp>
 
@@ -26,7 +28,7 @@ double imageNoiseGrey(const cv::Mat& grey, const cv::Mat& mask) {
     }
     if (count == 0) return 0.0;
     // E|N(0, 36σ²)| = 6σ·sqrt(2/π).
-    return std::sqrt(M_PI / 2.0) / 6.0 * sum / double(count);
+    return std::sqrt(std::numbers::pi / 2.0) / 6.0 * sum / double(count);
 }
 
 cv::Mat rowTextureGreyPerPx(const cv::Mat& grey, double noiseGrey, int radiusPx) {
@@ -63,6 +65,7 @@ FaintIce faintIce(const RowTextureInputs& in, const RowTextureOptions& o) {
         for (int x = 0; x < size.width; ++x) {
             if (!object[x]) continue;
             const cv::Point2d at = in.toCurrent({double(x), double(y)});
+            if (!std::isfinite(at.x) || !std::isfinite(at.y)) continue;
             const int u = static_cast<int>(std::lround(at.x)), v = static_cast<int>(std::lround(at.y));
             if (u < 0 || v < 0 || u >= size.width || v >= size.height) continue;
             const float has = now.at<float>(v, u);
