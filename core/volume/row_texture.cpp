@@ -1,10 +1,8 @@
 // Texture along the image rows where the ice was read (row_texture.hpp).
 #include "core/volume/row_texture.hpp"
 
-#include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <numbers>
 
 #include <opencv2/imgproc.hpp>
 
@@ -28,7 +26,7 @@ double imageNoiseGrey(const cv::Mat& grey, const cv::Mat& mask) {
     }
     if (count == 0) return 0.0;
     // E|N(0, 36σ²)| = 6σ·sqrt(2/π).
-    return std::sqrt(std::numbers::pi / 2.0) / 6.0 * sum / double(count);
+    return std::sqrt(M_PI / 2.0) / 6.0 * sum / double(count);
 }
 
 cv::Mat rowTextureGreyPerPx(const cv::Mat& grey, double noiseGrey, int radiusPx) {
@@ -49,43 +47,18 @@ cv::Mat rowTextureGreyPerPx(const cv::Mat& grey, double noiseGrey, int radiusPx)
     return texture;
 }
 
-FaintIce faintIce(const RowTextureInputs& in, const RowTextureOptions& o) {
-    const cv::Size size = in.currentGrey.size();
-    CV_Assert(in.baselineGrey.size() == size && in.baselineObject.size() == size && in.thicknessMm.size() == size);
-    CV_Assert(in.thicknessMm.type() == CV_32FC1 && in.baselineObject.type() == CV_8UC1);
-    // The noise is the image's, wherever on the object it is read (the object moved little).
-    const cv::Mat before =
-        rowTextureGreyPerPx(in.baselineGrey, imageNoiseGrey(in.baselineGrey, in.baselineObject), o.radiusPx);
-    const cv::Mat now =
-        rowTextureGreyPerPx(in.currentGrey, imageNoiseGrey(in.currentGrey, in.baselineObject), o.radiusPx);
-    cv::Mat lost = cv::Mat::zeros(size, CV_8U);
-    for (int y = 0; y < size.height; ++y) {
-        const std::uint8_t* object = in.baselineObject.ptr<std::uint8_t>(y);
-        const float* had = before.ptr<float>(y);
-        for (int x = 0; x < size.width; ++x) {
-            if (!object[x]) continue;
-            const cv::Point2d at = in.toCurrent({double(x), double(y)});
-            if (!std::isfinite(at.x) || !std::isfinite(at.y)) continue;
-            const int u = static_cast<int>(std::lround(at.x)), v = static_cast<int>(std::lround(at.y));
-            if (u < 0 || v < 0 || u >= size.width || v >= size.height) continue;
-            const float has = now.at<float>(v, u);
-            if (had[x] >= o.minGreyPerPx && has < o.minGreyPerPx && has < 0.5 * in.lightRatio * had[x]) lost.at<std::uint8_t>(v, u) = 255;
-        }
-    }
+FaintIce faintIce(const cv::Mat& grey, const cv::Mat& thicknessMm, const RowTextureOptions& o) {
+    CV_Assert(thicknessMm.type() == CV_32FC1 && thicknessMm.size() == grey.size());
+    const cv::Mat read = thicknessMm == thicknessMm;  // not NaN
+    const cv::Mat texture = rowTextureGreyPerPx(grey, imageNoiseGrey(grey, read), o.radiusPx);
     FaintIce out;
-    for (int y = 0; y < size.height; ++y) {
-        const float* t = in.thicknessMm.ptr<float>(y);
-        const float* g = now.ptr<float>(y);
-        const std::uint8_t* gone = lost.ptr<std::uint8_t>(y);
-        for (int x = 0; x < size.width; ++x) {
-            if (gone[x]) {
-                ++out.icePixels;
-                ++out.faintPixels;
-                ++out.lostPixels;
-            } else if (t[x] >= o.minIceMm) {
-                ++out.icePixels;
-                if (g[x] < o.minGreyPerPx) ++out.faintPixels;
-            }
+    for (int y = 0; y < grey.rows; ++y) {
+        const float* t = thicknessMm.ptr<float>(y);
+        const float* g = texture.ptr<float>(y);
+        for (int x = 0; x < grey.cols; ++x) {
+            if (!(t[x] >= o.minIceMm)) continue;
+            ++out.icePixels;
+            if (g[x] < o.minGreyPerPx) ++out.faintPixels;
         }
     }
     return out;
