@@ -754,13 +754,20 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
         }
     // --- ice whose depth the rows could not tell: carried over from around it, not measured ---
     const RowTextureOptions rowTexture;
-    const FaintIce faint = faintIce(current.leftGrey, result.thicknessImageMm, rowTexture);
+    cv::Mat baselineObject;
+    cv::erode(baseline.roi, baselineObject,
+              cv::getStructuringElement(cv::MORPH_ELLIPSE, {2 * p.edgeMarginPx + 1, 2 * p.edgeMarginPx + 1}));
+    const cv::Matx33d k = impl_->projection.get_minor<3, 3>(0, 0);
+    const FaintIce faint = faintIce({baseline.leftGrey, current.leftGrey, baselineObject,
+                                     [&](cv::Point2d px) { return planePixelInCurrent(px, plane, transform, k).at; },
+                                     lightRatio.value_or(1.0), result.thicknessImageMm},
+                                    rowTexture);
     result.faintIcePercent = 100.0 * faint.share();
     if (faint.unmeasured(rowTexture)) {
         std::ostringstream reason;
         reason.precision(3);
         reason << "the ice's thickness is not measured: " << result.faintIcePercent << " % of the "
-               << faint.icePixels << " pixels where ice was read carry less texture along the image rows than "
+               << faint.icePixels << " pixels where ice was read or the object's texture was lost carry less texture along the image rows than "
                << rowTexture.minGreyPerPx
                << " grey levels per pixel (a blur, a tone curve or smooth, plain ice), so the matcher carried the depth of "
                   "the surface around it over it and the ice may be much thicker than read";

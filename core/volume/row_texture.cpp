@@ -1,8 +1,11 @@
-// Texture along the image rows where the ice was read (row_texture.hpp).
+// Texture along the image rows where ice was read or where the object's texture went (row_texture.hpp).
 #include "core/volume/row_texture.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstddef>
+#include <vector>
 
 #include <opencv2/imgproc.hpp>
 
@@ -13,20 +16,18 @@ double imageNoiseGrey(const cv::Mat& grey, const cv::Mat& mask) {
     const cv::Matx33f laplacian(1, -2, 1, -2, 4, -2, 1, -2, 1);
     cv::Mat response;
     cv::filter2D(grey, response, CV_32F, laplacian, {-1, -1}, 0, cv::BORDER_REPLICATE);
-    double sum = 0;
-    long count = 0;
+    std::vector<float> magnitudes;
     for (int y = 1; y + 1 < grey.rows; ++y) {
         const float* r = response.ptr<float>(y);
         const std::uint8_t* m = mask.ptr<std::uint8_t>(y);
-        for (int x = 1; x + 1 < grey.cols; ++x) {
-            if (!m[x]) continue;
-            sum += std::abs(r[x]);
-            ++count;
-        }
+        for (int x = 1; x + 1 < grey.cols; ++x)
+            if (m[x]) magnitudes.push_back(std::abs(r[x]));
     }
-    if (count == 0) return 0.0;
-    // E|N(0, 36σ²)| = 6σ·sqrt(2/π).
-    return std::sqrt(M_PI / 2.0) / 6.0 * sum / double(count);
+    if (magnitudes.empty()) return 0.0;
+    const auto middle = magnitudes.begin() + static_cast<std::ptrdiff_t>(magnitudes.size() / 2);
+    std::nth_element(magnitudes.begin(), middle, magnitudes.end());
+    // The median of |N(0, 36σ²)| is 6σ·0.6745.
+    return double(*middle) / (6.0 * 0.674489750196);
 }
 
 cv::Mat rowTextureGreyPerPx(const cv::Mat& grey, double noiseGrey, int radiusPx) {
@@ -47,18 +48,43 @@ cv::Mat rowTextureGreyPerPx(const cv::Mat& grey, double noiseGrey, int radiusPx)
     return texture;
 }
 
-FaintIce faintIce(const cv::Mat& grey, const cv::Mat& thicknessMm, const RowTextureOptions& o) {
-    CV_Assert(thicknessMm.type() == CV_32FC1 && thicknessMm.size() == grey.size());
-    const cv::Mat read = thicknessMm == thicknessMm;  // not NaN
-    const cv::Mat texture = rowTextureGreyPerPx(grey, imageNoiseGrey(grey, read), o.radiusPx);
+FaintIce faintIce(const RowTextureInputs& in, const RowTextureOptions& o) {
+    const cv::Size size = in.currentGrey.size();
+    CV_Assert(in.baselineGrey.size() == size && in.baselineObject.size() == size && in.thicknessMm.size() == size);
+    CV_Assert(in.thicknessMm.type() == CV_32FC1 && in.baselineObject.type() == CV_8UC1);
+    // The noise is the image's, wherever on the object it is read (the object moved little).
+    const cv::Mat before =
+        rowTextureGreyPerPx(in.baselineGrey, imageNoiseGrey(in.baselineGrey, in.baselineObject), o.radiusPx);
+    const cv::Mat now =
+        rowTextureGreyPerPx(in.currentGrey, imageNoiseGrey(in.currentGrey, in.baselineObject), o.radiusPx);
+    cv::Mat lost = cv::Mat::zeros(size, CV_8U);
+    for (int y = 0; y < size.height; ++y) {
+        const std::uint8_t* object = in.baselineObject.ptr<std::uint8_t>(y);
+        const float* had = before.ptr<float>(y);
+        for (int x = 0; x < size.width; ++x) {
+            if (!object[x]) continue;
+            const cv::Point2d at = in.toCurrent({double(x), double(y)});
+            if (!std::isfinite(at.x) || !std::isfinite(at.y)) continue;
+            const int u = static_cast<int>(std::lround(at.x)), v = static_cast<int>(std::lround(at.y));
+            if (u < 0 || v < 0 || u >= size.width || v >= size.height) continue;
+            const float has = now.at<float>(v, u);
+            if (had[x] >= o.minGreyPerPx && has < o.minGreyPerPx && has < 0.5 * in.lightRatio * had[x]) lost.at<std::uint8_t>(v, u) = 255;
+        }
+    }
     FaintIce out;
-    for (int y = 0; y < grey.rows; ++y) {
-        const float* t = thicknessMm.ptr<float>(y);
-        const float* g = texture.ptr<float>(y);
-        for (int x = 0; x < grey.cols; ++x) {
-            if (!(t[x] >= o.minIceMm)) continue;
-            ++out.icePixels;
-            if (g[x] < o.minGreyPerPx) ++out.faintPixels;
+    for (int y = 0; y < size.height; ++y) {
+        const float* t = in.thicknessMm.ptr<float>(y);
+        const float* g = now.ptr<float>(y);
+        const std::uint8_t* gone = lost.ptr<std::uint8_t>(y);
+        for (int x = 0; x < size.width; ++x) {
+            if (gone[x]) {
+                ++out.icePixels;
+                ++out.faintPixels;
+                ++out.lostPixels;
+            } else if (t[x] >= o.minIceMm) {
+                ++out.icePixels;
+                if (g[x] < o.minGreyPerPx) ++out.faintPixels;
+            }
         }
     }
     return out;

@@ -1,5 +1,7 @@
 #pragma once
 
+#include <functional>
+
 #include <opencv2/core.hpp>
 
 namespace icewatch::volume {
@@ -27,8 +29,11 @@ struct RowTextureOptions {
 };
 
 // The image's noise, grey levels (1 σ), from its second differences where `mask` is set
-// (Immerkær's estimator: the mean absolute response of the 3 x 3 Laplacian difference operator,
-// which cancels every surface up to a plane). 0 when the mask is empty.
+// (Immerkær's operator, the 3 x 3 Laplacian difference, which cancels every surface up to a
+// plane; the median of its absolute response rather than his mean, because the edges of ice
+// and of the object answer it too: a horn's edges made the mean 2.7 times the baseline's on an
+// unmoved blade under the same light, and the noise's share taken off the texture then left a
+// third of the clean blade faint). 0 when the mask is empty.
 double imageNoiseGrey(const cv::Mat& grey, const cv::Mat& mask);
 
 // Per pixel of `grey` (CV_32F), the rms of the horizontal central difference over the
@@ -36,16 +41,32 @@ double imageNoiseGrey(const cv::Mat& grey, const cv::Mat& mask);
 cv::Mat rowTextureGreyPerPx(const cv::Mat& grey, double noiseGrey, int radiusPx);
 
 struct FaintIce {
-    int icePixels = 0;    // where ice at least minIceMm thick was read
+    int icePixels = 0;    // where ice may be: read at least minIceMm thick, or the texture lost
     int faintPixels = 0;  // of those, with less texture along the rows than minGreyPerPx
+    int lostPixels = 0;   // of those, where the baseline's texture along the rows is gone
     double share() const { return icePixels > 0 ? double(faintPixels) / icePixels : 0.0; }
     // Whether so much of the ice is faint that its thickness cannot be taken as measured.
     bool unmeasured(const RowTextureOptions& o) const { return icePixels >= o.minIcePixels && share() > o.maxFaintShare; }
 };
 
-// Of the current capture's pixels where the ice read at least minIceMm thick (`thicknessMm`, CV_32F,
-// NaN where none was read), those whose texture along the rows of `grey` (CV_32F, the same size)
-// is faint. The noise is `grey`'s over the pixels where thickness was read at all.
-FaintIce faintIce(const cv::Mat& grey, const cv::Mat& thicknessMm, const RowTextureOptions& options);
+// The two captures as the stage reads them: their grey images (CV_32F, one size), the baseline's
+// object (CV_8U, off its mixed edge), where each of its pixels lies in the current capture (the
+// registered plane), the scene's change of light (current over baseline) and the current
+// capture's thickness as read (CV_32F, mm, NaN where none was read).
+struct RowTextureInputs {
+    cv::Mat baselineGrey, currentGrey;
+    cv::Mat baselineObject;
+    std::function<cv::Point2d(cv::Point2d)> toCurrent;
+    double lightRatio = 1.0;
+    cv::Mat thicknessMm;
+};
+
+// Where ice may be, in the current capture's pixels: where ice at least minIceMm thick was read,
+// and where the object's texture along the rows was lost, which the matcher may have read as
+// anything from no ice to much (the baseline carried at least minGreyPerPx and twice the texture
+// that the light's change leaves, the current capture less than minGreyPerPx). Of those, the
+// faint: lost, or read with less texture along the rows than minGreyPerPx. Each image's noise is
+// its own, read over the baseline's object.
+FaintIce faintIce(const RowTextureInputs& in, const RowTextureOptions& options);
 
 }  // namespace icewatch::volume

@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include <opencv2/imgproc.hpp>
+
 namespace icewatch::volume {
 namespace {
 
@@ -35,6 +37,17 @@ TEST(RowTexture, TheNoiseEstimateIgnoresSmoothShadingAndFindsTheNoise) {
     EXPECT_EQ(imageNoiseGrey(image, cv::Mat(image.size(), CV_8U, cv::Scalar(0))), 0.0);
 }
 
+// The edges of ice or of the object answer the noise operator too; on a fifth of the image they
+// must not raise the noise the texture is judged against (their mean made it 2.7 times too high).
+TEST(RowTexture, TheNoiseEstimateIsNotRaisedByStrongTextureOnPartOfTheImage) {
+    cv::Mat image = shadedImage(0.0, 0, 0.8);
+    for (int y = 0; y < image.rows; ++y)
+        for (int x = 0; x < 40; ++x)  // a fifth of the image: a rough, bright horn's texture
+            image.at<float>(y, x) += static_cast<float>(15.0 * std::sin(2.0 * kPi * x / 5.0) * std::cos(2.0 * kPi * y / 7.0));
+    const cv::Mat all(image.size(), CV_8U, cv::Scalar(255));
+    EXPECT_NEAR(imageNoiseGrey(image, all), 0.8, 0.12);
+}
+
 TEST(RowTexture, ShadingAcrossTheRowsIsNoTextureAndASineAlongThemIs) {
     const double amplitude = 2.0;
     const cv::Mat image = shadedImage(amplitude, 100, 0.5);
@@ -47,27 +60,65 @@ TEST(RowTexture, ShadingAcrossTheRowsIsNoTextureAndASineAlongThemIs) {
     EXPECT_LT(texture.at<float>(20, 160), 0.15);
 }
 
-TEST(RowTexture, IceIsFaintWhereItsRowsCarryNoTexture) {
+cv::Mat noThickness(cv::Size size) { return {size, CV_32F, cv::Scalar(std::numeric_limits<float>::quiet_NaN())}; }
+
+RowTextureInputs unmoved(const cv::Mat& baseline, const cv::Mat& current, const cv::Mat& thickness) {
+    cv::Mat object = cv::Mat::zeros(baseline.size(), CV_8U);
+    object(cv::Rect(20, 20, 160, 80)).setTo(255);
+    return {baseline, current, object, [](cv::Point2d px) { return px; }, 1.0, thickness};
+}
+
+TEST(RowTexture, IceReadWhereItsRowsCarryNoTextureIsFaint) {
     const cv::Mat image = shadedImage(2.0, 100, 0.5);
-    cv::Mat thickness(image.size(), CV_32F, cv::Scalar(std::numeric_limits<float>::quiet_NaN()));
+    cv::Mat thickness = noThickness(image.size());
     thickness(cv::Rect(20, 20, 160, 80)).setTo(5.0f);   // ice read over both halves
     thickness(cv::Rect(20, 100, 160, 10)).setTo(0.2f);  // too thin to count
     const RowTextureOptions options;
-    const FaintIce half = faintIce(image, thickness, options);
+    // The baseline as plain as the current capture: nothing was lost, the ice read is judged.
+    const FaintIce half = faintIce(unmoved(image, image, thickness), options);
     EXPECT_EQ(half.icePixels, 160 * 80);
+    EXPECT_EQ(half.lostPixels, 0);
     EXPECT_NEAR(half.share(), 0.5, 0.06);  // the window straddles the texture's end by its radius
     EXPECT_TRUE(half.unmeasured(options));
 
-    const FaintIce textured = faintIce(shadedImage(2.0, 200, 0.5), thickness, options);
-    EXPECT_EQ(textured.faintPixels, 0);
-    EXPECT_FALSE(textured.unmeasured(options));
+    const cv::Mat textured = shadedImage(2.0, 200, 0.5);
+    const FaintIce measured = faintIce(unmoved(textured, textured, thickness), options);
+    EXPECT_EQ(measured.faintPixels, 0);
+    EXPECT_FALSE(measured.unmeasured(options));
 
     // Too few ice pixels are not judged.
-    cv::Mat speck(image.size(), CV_32F, cv::Scalar(std::numeric_limits<float>::quiet_NaN()));
+    cv::Mat speck = noThickness(image.size());
     speck(cv::Rect(150, 50, 10, 10)).setTo(5.0f);
-    const FaintIce few = faintIce(image, speck, options);
+    const FaintIce few = faintIce(unmoved(image, image, speck), options);
     EXPECT_EQ(few.share(), 1.0);
     EXPECT_FALSE(few.unmeasured(options));
+}
+
+// Ice the matcher read flat (no thickness at all) still shows where the object's texture went.
+TEST(RowTexture, TextureLostWhereNoIceWasReadIsFaintIce) {
+    const cv::Mat baseline = shadedImage(2.0, 200, 0.5, 7);
+    const cv::Mat current = shadedImage(2.0, 100, 0.5, 8);  // the right half's texture covered
+    const RowTextureOptions options;
+    const FaintIce flat = faintIce(unmoved(baseline, current, noThickness(baseline.size())), options);
+    EXPECT_NEAR(flat.lostPixels, 80 * 80, 80 * 8);
+    EXPECT_EQ(flat.faintPixels, flat.icePixels);
+    EXPECT_TRUE(flat.unmeasured(options));
+
+    // Where the object moved, its texture is looked for where it went.
+    RowTextureInputs moved = unmoved(baseline, current, noThickness(baseline.size()));
+    cv::Mat shifted;
+    const cv::Mat shift = (cv::Mat_<double>(2, 3) << 1, 0, 3, 0, 1, 2);
+    cv::warpAffine(shadedImage(2.0, 200, 0.5, 8), shifted, shift, baseline.size(), cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+    moved.currentGrey = shifted;
+    moved.toCurrent = [](cv::Point2d px) { return px + cv::Point2d(3, 2); };
+    EXPECT_EQ(faintIce(moved, options).lostPixels, 0);
+
+    // Light that dimmed is not texture lost: half the light leaves half the texture.
+    RowTextureInputs dimmed = unmoved(shadedImage(1.0, 200, 0.3, 7), cv::Mat(), noThickness(baseline.size()));
+    dimmed.currentGrey = 0.5 * shadedImage(1.0, 200, 0.0, 8);
+    dimmed.lightRatio = 0.5;
+    const FaintIce dim = faintIce(dimmed, options);
+    EXPECT_EQ(dim.lostPixels, 0);
 }
 
 }  // namespace
