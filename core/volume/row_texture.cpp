@@ -4,10 +4,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstddef>
+#include <utility>
 #include <vector>
 
 #include <opencv2/imgproc.hpp>
+
+#include "core/volume/robust_statistics.hpp"
 
 namespace icewatch::volume {
 
@@ -24,10 +26,8 @@ double imageNoiseGrey(const cv::Mat& grey, const cv::Mat& mask) {
             if (m[x]) magnitudes.push_back(std::abs(r[x]));
     }
     if (magnitudes.empty()) return 0.0;
-    const auto middle = magnitudes.begin() + static_cast<std::ptrdiff_t>(magnitudes.size() / 2);
-    std::nth_element(magnitudes.begin(), middle, magnitudes.end());
-    // The median of |N(0, 36σ²)| is 6σ·0.6745.
-    return double(*middle) / (6.0 * 0.674489750196);
+    // The median of |N(0, 36σ²)| is 6σ / kMadToSigma.
+    return kMadToSigma * double(median(std::move(magnitudes))) / 6.0;
 }
 
 cv::Mat rowTextureGreyPerPx(const cv::Mat& grey, double noiseGrey, int radiusPx) {
