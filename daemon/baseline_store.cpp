@@ -1,9 +1,10 @@
 // Baseline persistence. The images are kept lossless (PNG) because the volume is the difference
 // against them; JPEG artefacts would show up as ice. An averaged capture (float grey) is kept as
 // 16-bit grey in 1/256 grey levels, so its fraction survives: rounding it to 8 bits would throw
-// away what the averaging gained.
+// away what the averaging gained. The noise draw is signed: 16-bit too, offset by half the range.
 #include "daemon/baseline_store.hpp"
 
+#include <algorithm>
 #include <fstream>
 #include <iterator>
 #include <vector>
@@ -18,6 +19,7 @@ namespace icewatch::daemon {
 
 namespace {
 constexpr double kFloatScale = 256.0;
+constexpr double kNoiseOffset = 32768.0;  // grey level 0 of the noise draw; it spans ±128
 constexpr const char* kCurrent = "baseline.json";
 constexpr const char* kPrevious = "baseline.previous.json";
 
@@ -46,6 +48,20 @@ bool writePng(const std::filesystem::path& path, const cv::Mat& image) {
     }
     return writeFileAtomically(path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
 }
+bool writeNoisePng(const std::filesystem::path& path, const cv::Mat& noise) {
+    cv::Mat stored;
+    noise.convertTo(stored, CV_16U, kFloatScale, kNoiseOffset);
+    std::vector<uchar> bytes;
+    return cv::imencode(".png", stored, bytes) &&
+           writeFileAtomically(path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
+}
+cv::Mat readNoisePng(const std::filesystem::path& path) {
+    const cv::Mat stored = cv::imread(path.string(), cv::IMREAD_UNCHANGED);
+    if (stored.depth() != CV_16U || stored.channels() != 1) return {};
+    cv::Mat noise;
+    stored.convertTo(noise, CV_32F, 1.0 / kFloatScale, -kNoiseOffset / kFloatScale);
+    return noise;
+}
 cv::Mat readPng(const std::filesystem::path& path) {
     cv::Mat image = cv::imread(path.string(), cv::IMREAD_UNCHANGED);
     if (image.depth() == CV_16U && image.channels() == 1) {
@@ -69,13 +85,22 @@ bool saveBaseline(const std::filesystem::path& stateDir, const BaselineRecord& r
         error = "cannot write the baseline images in " + dir.string();
         return false;
     }
-    const nlohmann::json doc{{"time", formatIsoUtc(record.time)},
-                             {"calibration_sha256", record.calibrationSha256},
-                             {"left", leftName},
-                             {"right", rightName},
-                             {"requested_by", record.requestedBy},
-                             {"eye_width", record.pair.left.cols},
-                             {"eye_height", record.pair.left.rows}};
+    nlohmann::json doc{{"time", formatIsoUtc(record.time)},
+                       {"calibration_sha256", record.calibrationSha256},
+                       {"left", leftName},
+                       {"right", rightName},
+                       {"requested_by", record.requestedBy},
+                       {"eye_width", record.pair.left.cols},
+                       {"eye_height", record.pair.left.rows}};
+    if (!record.noise.left.empty() && !record.noise.right.empty()) {
+        const std::string noiseLeft = "noise-left-" + stamp + ".png", noiseRight = "noise-right-" + stamp + ".png";
+        if (!writeNoisePng(dir / noiseLeft, record.noise.left) || !writeNoisePng(dir / noiseRight, record.noise.right)) {
+            error = "cannot write the baseline's noise images in " + dir.string();
+            return false;
+        }
+        doc["noise_left"] = noiseLeft;
+        doc["noise_right"] = noiseRight;
+    }
     const nlohmann::json current = readRecord(dir / kCurrent);
     const nlohmann::json previous = readRecord(dir / kPrevious);
     // The record being replaced becomes the previous one before the new one is in place: a crash
@@ -89,9 +114,13 @@ bool saveBaseline(const std::filesystem::path& stateDir, const BaselineRecord& r
         return false;
     }
     // Images of the record that fell off the end (neither current nor previous any more).
-    for (const auto& old : {text(previous, "left"), text(previous, "right")}) {
-        if (!old.empty() && old != leftName && old != rightName && old != text(current, "left") &&
-            old != text(current, "right") && !std::filesystem::path(old).has_parent_path()) {
+    const auto images = [](const nlohmann::json& r) {
+        return std::vector<std::string>{text(r, "left"), text(r, "right"), text(r, "noise_left"), text(r, "noise_right")};
+    };
+    const std::vector<std::string> kept = images(doc), alsoKept = images(current);
+    for (const auto& old : images(previous)) {
+        const auto in = [&old](const std::vector<std::string>& names) { return std::find(names.begin(), names.end(), old) != names.end(); };
+        if (!old.empty() && !in(kept) && !in(alsoKept) && !std::filesystem::path(old).has_parent_path()) {
             std::filesystem::remove(dir / old, ec);
         }
     }
@@ -148,6 +177,21 @@ std::optional<BaselineRecord> loadBaseline(const std::filesystem::path& stateDir
     if (record.pair.left.empty() || record.pair.right.empty() || record.pair.left.size() != record.pair.right.size()) {
         error = dir.string() + ": the baseline images are missing or unreadable";
         return std::nullopt;
+    }
+    const std::string noiseLeft = text(doc, "noise_left"), noiseRight = text(doc, "noise_right");
+    if (noiseLeft.empty() != noiseRight.empty() || std::filesystem::path(noiseLeft).has_parent_path() ||
+        std::filesystem::path(noiseRight).has_parent_path()) {
+        error = (dir / "baseline.json").string() + ": noise_left and noise_right must both be plain file names, or both absent";
+        return std::nullopt;
+    }
+    if (!noiseLeft.empty()) {
+        record.noise.left = readNoisePng(dir / noiseLeft);
+        record.noise.right = readNoisePng(dir / noiseRight);
+        if (record.noise.left.size() != record.pair.left.size() || record.noise.right.size() != record.pair.right.size()) {
+            error = dir.string() + ": the baseline's noise images (" + noiseLeft + ", " + noiseRight +
+                    ") are missing, unreadable or not the size of its images";
+            return std::nullopt;
+        }
     }
     return record;
 }

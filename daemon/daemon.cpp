@@ -201,7 +201,8 @@ void Daemon::loadStoredBaseline() {
         return;
     }
     // Moved in: the stored images are not needed again, and the chain lets them go once rectified.
-    const ChainResult accepted = parts_.chain->setBaseline(std::move(record->pair));
+    // A record kept without a noise draw has its noise read off its image.
+    const ChainResult accepted = parts_.chain->setBaseline(std::move(record->pair), std::move(record->noise));
     if (accepted.status != ChainResult::Status::Ok) {
         logger()->error("the stored baseline was refused by the volume chain: {}", accepted.reason);
         return;
@@ -450,7 +451,7 @@ void Daemon::captureBaseline(const std::string& who) {
     const TimePoint time = clock_.now();
     nlohmann::json outcome = {{"time", formatIsoUtc(time)}, {"ok", capture.ok}};
     if (capture.ok) {
-        BaselineRecord record{time, parts_.chain->calibrationSha256(), std::move(capture.pair), who};
+        BaselineRecord record{time, parts_.chain->calibrationSha256(), std::move(capture.pair), who, std::move(capture.noise)};
         std::string error;
         if (saveBaseline(stateDir_, record, error)) {
             logger()->info("baseline captured and stored (requested by {}); the previous one is kept, "

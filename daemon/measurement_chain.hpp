@@ -47,12 +47,13 @@ public:
     // SHA-256 of the calibration it measures with; a baseline taken under another one is not used.
     virtual std::string calibrationSha256() const = 0;
     // Builds the reference (clean blade) surface from a pair. Not Ok: no baseline is set.
-    // By value, as estimate.
-    virtual ChainResult setBaseline(StereoPair clean) = 0;
+    // By value, as estimate. `noise`: one draw of the pair's own noise when it is an average
+    // (volume::AveragedCapture::noise split as the pair; empty pairs when there is none).
+    virtual ChainResult setBaseline(StereoPair clean, StereoPair noise) = 0;
     virtual bool hasBaseline() const = 0;
     // Measures one pair against the baseline. Bad images are a Refused result, never an exception.
     // By value: a caller that moves the pair in lets the chain free it once it is rectified.
-    virtual ChainResult estimate(StereoPair current) = 0;
+    virtual ChainResult estimate(StereoPair current, StereoPair noise) = 0;
     // Called between the stages of setBaseline and estimate, on the caller's thread, when the
     // chain has stages: the service loop's watchdog learns that a long chain is still working.
     virtual void onProgress(std::function<void()> progress) { (void)progress; }

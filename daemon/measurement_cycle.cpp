@@ -135,7 +135,9 @@ std::optional<CycleOutcome> runMeasurementCycle(FrameSource& source, Measurement
     // once rectified, before the matcher takes its buffers (17 MB at 3840x1080).
     StereoPair eyes = sideBySideViews(capture.frame);
     capture.frame.release();
-    ChainResult c = chain.estimate(std::move(eyes));
+    StereoPair noise = capture.noise.empty() ? StereoPair{} : sideBySideViews(capture.noise);
+    capture.noise.release();
+    ChainResult c = chain.estimate(std::move(eyes), std::move(noise));
     progress();
     r.timingsMs["measure"] = msSince(measureStart);
     for (const auto& [stage, ms] : c.timingsMs) r.timingsMs["chain_" + stage] = ms;
@@ -182,13 +184,15 @@ BaselineCapture captureBaselinePair(FrameSource& source, MeasurementChain& chain
         return capture;
     }
     StereoPair pair = splitSideBySide(averaged.frame);
-    const ChainResult accepted = chain.setBaseline(pair);
+    StereoPair noise = averaged.noise.empty() ? StereoPair{} : splitSideBySide(averaged.noise);
+    const ChainResult accepted = chain.setBaseline(pair, noise);
     if (accepted.status != ChainResult::Status::Ok) {
         capture.reason = "the volume chain refused the baseline: " + accepted.reason;
         return capture;
     }
     capture.ok = true;
     capture.pair = std::move(pair);
+    capture.noise = std::move(noise);
     return capture;
 }
 

@@ -37,6 +37,7 @@ struct BaselineCapture {
     bool ok = false;
     std::string reason;  // when not ok
     StereoPair pair;
+    StereoPair noise;  // one draw of the pair's own noise (empty with a single frame)
 };
 BaselineCapture captureBaselinePair(FrameSource& source, MeasurementChain& chain, const config::DaemonConfig& config,
                                     const CancelCheck& cancelled, const ProgressCallback& progress);

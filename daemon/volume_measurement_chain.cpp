@@ -39,9 +39,9 @@ VolumeMeasurementChain::VolumeMeasurementChain(const calib::StereoCalibration& c
       pictureScale_(pictures),
       chain_(calibration, parameters, [] { return std::chrono::steady_clock::now(); }, stereo) {}
 
-ChainResult VolumeMeasurementChain::setBaseline(StereoPair clean) {
+ChainResult VolumeMeasurementChain::setBaseline(StereoPair clean, StereoPair noise) {
     try {
-        volume::Surface surface = chain_.measureSurface(std::move(clean));
+        volume::Surface surface = chain_.measureSurface(std::move(clean), std::move(noise));
         if (surface.validPercent < minValidPercent_) {
             return failure(ChainResult::Status::Refused,
                            "baseline has " + std::to_string(static_cast<int>(surface.validPercent)) +
@@ -63,13 +63,13 @@ ChainResult VolumeMeasurementChain::setBaseline(StereoPair clean) {
     return ok;
 }
 
-ChainResult VolumeMeasurementChain::estimate(StereoPair current) {
+ChainResult VolumeMeasurementChain::estimate(StereoPair current, StereoPair noise) {
     if (!baseline_) {
         return failure(ChainResult::Status::Failed, "no baseline set");
     }
     volume::Surface surface;
     try {
-        surface = chain_.measureSurface(std::move(current), *baseline_);
+        surface = chain_.measureSurface(std::move(current), *baseline_, std::move(noise));
     } catch (const InvalidInput& e) {
         return failure(ChainResult::Status::Failed, e.what());
     }

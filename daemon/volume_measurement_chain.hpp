@@ -23,9 +23,9 @@ public:
                            const stereo::Parameters& stereo = {});
 
     std::string calibrationSha256() const override { return calibrationSha256_; }
-    ChainResult setBaseline(StereoPair clean) override;
+    ChainResult setBaseline(StereoPair clean, StereoPair noise) override;
     bool hasBaseline() const override { return baseline_.has_value(); }
-    ChainResult estimate(StereoPair current) override;
+    ChainResult estimate(StereoPair current, StereoPair noise) override;
     void onProgress(std::function<void()> progress) override { chain_.onStageDone(std::move(progress)); }
 
 private:

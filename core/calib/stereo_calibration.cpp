@@ -382,9 +382,9 @@ void Rectifier::focus(const cv::Rect& box) {
 
 StereoPair Rectifier::rectify(const StereoPair& pair) const { return rectify(pair, cv::Rect({0, 0}, imageSize_)); }
 
-StereoPair Rectifier::rectify(const StereoPair& pair, const cv::Rect& box) const {
-    if (pair.left.size() != imageSize_ || pair.right.size() != imageSize_) {
-        throw InvalidInput("frame eye size " + sizeText(pair.left.size()) + " does not match the calibration's " +
+void Rectifier::checkInputs(cv::Size left, cv::Size right, const cv::Rect& box) const {
+    if (left != imageSize_ || right != imageSize_) {
+        throw InvalidInput("frame eye size " + sizeText(left) + " does not match the calibration's " +
                            sizeText(imageSize_));
     }
     if ((box & cv::Rect({0, 0}, imageSize_)) != box || box.empty()) {
@@ -393,11 +393,23 @@ StereoPair Rectifier::rectify(const StereoPair& pair, const cv::Rect& box) const
     if ((box & mapped_) != box) {
         throw InvalidInput("rectification box lies outside the part of the maps kept (Rectifier::focus)");
     }
+}
+
+StereoPair Rectifier::rectify(const StereoPair& pair, const cv::Rect& box) const {
+    checkInputs(pair.left.size(), pair.right.size(), box);
     // The maps are per output pixel: a box of them rectifies that part alone.
     const cv::Rect inMaps = box - mapped_.tl();
     StereoPair out;
     cv::remap(pair.left, out.left, leftMap1_(inMaps), leftMap2_(inMaps), cv::INTER_LINEAR, cv::BORDER_CONSTANT);
     cv::remap(pair.right, out.right, rightMap1_(inMaps), rightMap2_(inMaps), cv::INTER_LINEAR, cv::BORDER_CONSTANT);
+    return out;
+}
+
+cv::Mat Rectifier::rectifyLeft(const cv::Mat& left, const cv::Rect& box) const {
+    checkInputs(left.size(), left.size(), box);
+    const cv::Rect inMaps = box - mapped_.tl();
+    cv::Mat out;
+    cv::remap(left, out, leftMap1_(inMaps), leftMap2_(inMaps), cv::INTER_LINEAR, cv::BORDER_CONSTANT);
     return out;
 }
 

@@ -64,6 +64,8 @@ public:
     // Only the rectified pixels inside `box` (the same box in both eyes): the result is box-sized,
     // equal to that part of the whole rectification. The box must lie inside the maps kept (focus).
     StereoPair rectify(const StereoPair& pair, const cv::Rect& box) const;
+    // The left eye alone, as rectify() would give it (an image that goes with the left eye: its noise).
+    cv::Mat rectifyLeft(const cv::Mat& left, const cv::Rect& box) const;
     cv::Size imageSize() const { return imageSize_; }
 
     // Keeps the maps of `box` alone and gives the rest back: a caller that rectifies one region
@@ -74,6 +76,8 @@ public:
     cv::Rect mapped() const { return mapped_; }
 
 private:
+    // Throws InvalidInput when an eye does not have the calibration's size or `box` lies outside the maps kept.
+    void checkInputs(cv::Size left, cv::Size right, const cv::Rect& box) const;
     void buildMaps();
 
     StereoCalibration calibration_;  // with its rectification derived

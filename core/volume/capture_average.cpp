@@ -120,12 +120,27 @@ Verdict compare(const cv::Mat& reference, const cv::Mat& frame, const CaptureAve
     return {};
 }
 
-// Frames that showed one scene: the first one's half-size image, and the full-size sum.
+// Frames that showed one scene: the first one's half-size image, the full-size sum, and the sum
+// with every other frame taken away instead of added, where the scene cancels and the noise stays.
 struct Group {
     cv::Mat reference;
-    cv::Mat sum;  // CV_32F: a sum of up to 65 793 8-bit frames is exact
+    cv::Mat sum;          // CV_32F: a sum of up to 65 793 8-bit frames is exact
+    cv::Mat alternating;  // CV_32F: + the 1st, 3rd, ... frame, - the 2nd, 4th, ...
     int count = 0;
 };
+
+// One draw of the average's own noise: the frames combined with weights that sum to zero, so the
+// still scene cancels, and whose squares sum to 1/n, so the noise has the average's variance and
+// spectrum (each frame's JPEG encoding and all). Even n: the alternating sum over n. Odd n: it
+// keeps one frame's scene, which the average takes off; the weights ±1 - 1/n then square to
+// n - 1/n, and 1/sqrt(n² - 1) rescales them to 1/n.
+cv::Mat averageNoise(const Group& g) {
+    const double n = g.count;
+    if (g.count < 2) return {};
+    if (g.count % 2 == 0) return g.alternating / n;
+    cv::Mat noise = g.alternating - g.sum / n;
+    return noise * (1.0 / std::sqrt(n * n - 1.0));
+}
 
 struct FrameRecord {
     std::string name;
@@ -146,12 +161,15 @@ struct CaptureAccumulator::Impl {
     Verdict secondOpened;       // why the second group's first frame disagreed with the first's
 
     void join(std::size_t group, const cv::Mat& grey) {
-        cv::accumulate(grey, groups[group].sum);
-        ++groups[group].count;
+        Group& g = groups[group];
+        cv::accumulate(grey, g.sum);
+        if (g.count % 2 == 0) cv::accumulate(grey, g.alternating);
+        else cv::subtract(g.alternating, grey, g.alternating, cv::noArray(), CV_32F);
+        ++g.count;
         healthy.back().group = static_cast<int>(group);
     }
     void open(const cv::Mat& small, const cv::Mat& grey) {
-        groups.push_back({small, cv::Mat::zeros(grey.size(), CV_32F), 0});
+        groups.push_back({small, cv::Mat::zeros(grey.size(), CV_32F), cv::Mat::zeros(grey.size(), CV_32F), 0});
         join(groups.size() - 1, grey);
     }
 };
@@ -228,6 +246,7 @@ AveragedCapture CaptureAccumulator::finish() {
     }
     Group& group = a.groups[static_cast<std::size_t>(winner)];
     out.frame = group.sum / static_cast<double>(group.count);
+    out.noise = averageNoise(group);
     out.framesUsed = group.count;
     return out;
 }

@@ -29,6 +29,11 @@ struct DroppedFrame {
 struct AveragedCapture {
     cv::Mat frame;                     // CV_32FC1 grey side-by-side frame, 0..255, never rounded;
                                        // empty when fewer than minFrames were usable
+    // One draw of the average's own noise (CV_32FC1, the frame's layout): the same frames combined
+    // so that the scene cancels and the noise keeps the average's variance and spectrum. What the
+    // image shows of it cannot be told from texture, so what reads texture takes it off. Empty
+    // with fewer than two frames.
+    cv::Mat noise;
     int framesUsed = 0;
     int framesHealthy = 0;             // passed the image-health check
     std::vector<DroppedFrame> dropped;
@@ -45,8 +50,9 @@ struct AveragedCapture {
 // the first healthy frame is the reference, and the first frame that disagrees with it opens a
 // second group with its own reference and sum. The larger group is the capture (the first on a
 // tie), so a disturbed or moved first frame loses to the frames after it instead of casting them
-// all out; a frame that fits neither group is left out. Two sums, two half-size references and
-// the frame in hand are all that is held, whatever the burst's length.
+// all out; a frame that fits neither group is left out. Two sums and two alternating sums (for
+// the noise), two half-size references and the frame in hand are all that is held, whatever the
+// burst's length.
 //
 // Frames: CV_8UC3 (BGR) or CV_8UC1, all of one size; a name (may be empty) names a frame in the
 // reasons. add() throws InvalidInput when a frame is empty, not 8-bit or of another size (naming it).

@@ -197,8 +197,8 @@ struct VolumeChain::Impl {
     double focalPx = 0, baselineMm = 0;
 
     // measureSurface: a baseline (nullptr) in the whole frame, a later capture in its followUp.
-    Surface measureFrame(cv::Mat sideBySideFrame, const Surface* baseline);
-    Surface measure(StereoPair raw, const Surface* baseline);
+    Surface measureFrame(cv::Mat sideBySideFrame, cv::Mat sideBySideNoise, const Surface* baseline);
+    Surface measure(StereoPair raw, StereoPair rawNoise, const Surface* baseline);
     MatchRegion followUpRegion(const Surface& baseline) const;
     // What the estimate needs of a baseline alone, from its points.
     std::shared_ptr<const BaselineModel> baselineModel(const Surface& baseline, const cv::Mat& points) const;
@@ -255,36 +255,40 @@ const Parameters& VolumeChain::parameters() const { return impl_->parameters; }
 
 void VolumeChain::onStageDone(StageDone hook) { impl_->stageDone = std::move(hook); }
 
-Surface VolumeChain::measureSurface(cv::Mat sideBySideFrame) {
-    return impl_->measureFrame(std::move(sideBySideFrame), nullptr);
+Surface VolumeChain::measureSurface(cv::Mat sideBySideFrame, cv::Mat sideBySideNoise) {
+    return impl_->measureFrame(std::move(sideBySideFrame), std::move(sideBySideNoise), nullptr);
 }
 
-Surface VolumeChain::measureSurface(StereoPair raw) { return impl_->measure(std::move(raw), nullptr); }
-
-Surface VolumeChain::measureSurface(cv::Mat sideBySideFrame, const Surface& baseline) {
-    return impl_->measureFrame(std::move(sideBySideFrame), &baseline);
+Surface VolumeChain::measureSurface(StereoPair raw, StereoPair rawNoise) {
+    return impl_->measure(std::move(raw), std::move(rawNoise), nullptr);
 }
 
-Surface VolumeChain::measureSurface(StereoPair raw, const Surface& baseline) {
-    return impl_->measure(std::move(raw), &baseline);
+Surface VolumeChain::measureSurface(cv::Mat sideBySideFrame, const Surface& baseline, cv::Mat sideBySideNoise) {
+    return impl_->measureFrame(std::move(sideBySideFrame), std::move(sideBySideNoise), &baseline);
+}
+
+Surface VolumeChain::measureSurface(StereoPair raw, const Surface& baseline, StereoPair rawNoise) {
+    return impl_->measure(std::move(raw), std::move(rawNoise), &baseline);
 }
 
 cv::Mat VolumeChain::points(const Surface& surface) const {
     return reproject(surface.disparity, impl_->calibration.Q, surface.matchedWindow);
 }
 
-Surface VolumeChain::Impl::measureFrame(cv::Mat sideBySideFrame, const Surface* baseline) {
+Surface VolumeChain::Impl::measureFrame(cv::Mat sideBySideFrame, cv::Mat sideBySideNoise, const Surface* baseline) {
     Timings split;
     StageTimer timer(clock, split, stageDone);
     StereoPair raw = sideBySideViews(sideBySideFrame);
     sideBySideFrame.release();  // the views hold the frame now, until the eyes are rectified
+    StereoPair rawNoise = sideBySideNoise.empty() ? StereoPair{} : sideBySideViews(sideBySideNoise);
+    sideBySideNoise.release();
     timer.lap("split");
-    Surface surface = measure(std::move(raw), baseline);
+    Surface surface = measure(std::move(raw), std::move(rawNoise), baseline);
     surface.timingsMs.insert(surface.timingsMs.begin(), split.front());
     return surface;
 }
 
-Surface VolumeChain::Impl::measure(StereoPair raw, const Surface* baseline) {
+Surface VolumeChain::Impl::measure(StereoPair raw, StereoPair rawNoise, const Surface* baseline) {
     Surface s;
     StageTimer timer(clock, s.timingsMs, stageDone);
     const cv::Size size = rectifier.imageSize();
@@ -307,6 +311,14 @@ Surface VolumeChain::Impl::measure(StereoPair raw, const Surface* baseline) {
         raw = {};  // the last reference to the capture, when the caller moved it in
         left = toFloatGrey(rectified.left);
         right = toFloatGrey(rectified.right);
+    }
+    if (!rawNoise.left.empty()) {
+        // Rectified as the eye was: the interpolation shapes the noise's spectrum as it shapes the image's.
+        if (rawNoise.left.size() != size || rawNoise.left.type() != CV_32FC1) {
+            throw InvalidInput("the capture's noise draw does not have the frame's size and float type");
+        }
+        s.leftNoise = placedInFrame(rectifier.rectifyLeft(rawNoise.left, window), window, size, 0.0f);
+        rawNoise = {};
     }
     timer.lap("rectify");
     // The float average goes to the matcher as it is: its integer stages round it, its sub-pixel
@@ -758,7 +770,7 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     cv::erode(baseline.roi, baselineObject,
               cv::getStructuringElement(cv::MORPH_ELLIPSE, {2 * p.edgeMarginPx + 1, 2 * p.edgeMarginPx + 1}));
     const cv::Matx33d k = impl_->projection.get_minor<3, 3>(0, 0);
-    const FaintIce faint = faintIce({baseline.leftGrey, current.leftGrey, baselineObject,
+    const FaintIce faint = faintIce({baseline.leftGrey, current.leftGrey, baseline.leftNoise, current.leftNoise, baselineObject,
                                      [&](cv::Point2d px) { return planePixelInCurrent(px, plane, transform, k).at; },
                                      lightRatio.value_or(1.0), result.thicknessImageMm},
                                     rowTexture);

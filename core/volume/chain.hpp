@@ -30,6 +30,9 @@ using Timings = std::vector<std::pair<std::string, double>>;
 struct Surface {
     cv::Mat rectifiedLeft;  // CV_8U grey, rectified left eye (for people and the image checks)
     cv::Mat leftGrey;       // CV_32F grey, rectified, as measured (an averaged capture keeps its fraction)
+    // One draw of leftGrey's own noise, rectified as it was (AveragedCapture::noise; CV_32F, zero
+    // outside matchedWindow). Empty when the capture had none (a single frame).
+    cv::Mat leftNoise;
     TrackingImage trackLeft, trackRight;  // both eyes as the texture trackers read them, over the matched window
     cv::Mat disparity;      // CV_32F, px, stereo::kInvalidDisparity where none (always outside matchedWindow)
     cv::Rect matchedWindow;  // the matcher's window in the frame (VolumeChain::points reads only there)
@@ -144,13 +147,16 @@ public:
     // without one over the whole frame and every disparity. Either way the surface's followUp says
     // where later captures are matched. Throws InvalidInput when the frame does not fit the
     // calibration.
-    Surface measureSurface(cv::Mat sideBySideFrame);
-    Surface measureSurface(StereoPair raw);
+    // An averaged capture's noise draw (AveragedCapture::noise, the frame's layout), when given, is
+    // rectified with it and kept (Surface::leftNoise): what reads texture takes it off. Taken by
+    // value as the frame is, and let go before the match.
+    Surface measureSurface(cv::Mat sideBySideFrame, cv::Mat sideBySideNoise = {});
+    Surface measureSurface(StereoPair raw, StereoPair rawNoise = {});
     // A capture to compare with `baseline`: rectified and matched only in the baseline's followUp
     // region and band (the whole frame when it has none). The surface keeps the frame's size,
     // its disparity invalid outside the matched box.
-    Surface measureSurface(cv::Mat sideBySideFrame, const Surface& baseline);
-    Surface measureSurface(StereoPair raw, const Surface& baseline);
+    Surface measureSurface(cv::Mat sideBySideFrame, const Surface& baseline, cv::Mat sideBySideNoise = {});
+    Surface measureSurface(StereoPair raw, const Surface& baseline, StereoPair rawNoise = {});
 
     // A surface's points, [X Y Z] = Q·[x y d 1] (mm, left rectified camera frame; CV_32FC3, NaN
     // where there is no disparity). Computed on demand rather than kept in the Surface: a frame

@@ -30,33 +30,62 @@ double imageNoiseGrey(const cv::Mat& grey, const cv::Mat& mask) {
     return kMadToSigma * double(median(std::move(magnitudes))) / 6.0;
 }
 
-cv::Mat rowTextureGreyPerPx(const cv::Mat& grey, double noiseGrey, int radiusPx) {
-    CV_Assert(grey.type() == CV_32FC1 && radiusPx >= 1);
+namespace {
+
+// The local mean over the (2r+1)² window of the squared horizontal central difference.
+cv::Mat rowDifferencePower(const cv::Mat& image, int radiusPx) {
     const cv::Matx13f centralDifference(-0.5f, 0.0f, 0.5f);
     cv::Mat along;
-    cv::filter2D(grey, along, CV_32F, centralDifference, {-1, -1}, 0, cv::BORDER_REPLICATE);
+    cv::filter2D(image, along, CV_32F, centralDifference, {-1, -1}, 0, cv::BORDER_REPLICATE);
     cv::Mat power;
     cv::multiply(along, along, power);
     const int side = 2 * radiusPx + 1;
     cv::boxFilter(power, power, CV_32F, {side, side}, {-1, -1}, true, cv::BORDER_REPLICATE);
-    // The central difference of white noise σ has variance σ²/2.
-    const auto noisePower = static_cast<float>(noiseGrey * noiseGrey / 2.0);
+    return power;
+}
+
+}  // namespace
+
+cv::Mat rowNoisePower(const cv::Mat& noise, int radiusPx) {
+    CV_Assert(noise.type() == CV_32FC1 && radiusPx >= 1);
+    return rowDifferencePower(noise, radiusPx);
+}
+
+cv::Mat rowTextureGreyPerPx(const cv::Mat& grey, const cv::Mat& noisePower, int radiusPx) {
+    CV_Assert(grey.type() == CV_32FC1 && radiusPx >= 1);
+    CV_Assert(noisePower.type() == CV_32FC1 && noisePower.size() == grey.size());
+    const cv::Mat power = rowDifferencePower(grey, radiusPx);
     cv::Mat texture(grey.size(), CV_32F);
     power.forEach<float>([&](const float& p, const int* at) {
-        texture.at<float>(at[0], at[1]) = std::sqrt(std::max(0.0f, p - noisePower));
+        texture.at<float>(at[0], at[1]) = std::sqrt(std::max(0.0f, p - noisePower.at<float>(at[0], at[1])));
     });
     return texture;
 }
+
+cv::Mat rowTextureGreyPerPx(const cv::Mat& grey, double noiseGrey, int radiusPx) {
+    // The central difference of white noise σ has variance σ²/2.
+    return rowTextureGreyPerPx(grey, cv::Mat(grey.size(), CV_32F, cv::Scalar(noiseGrey * noiseGrey / 2.0)), radiusPx);
+}
+
+namespace {
+
+// A capture's texture along the rows, its noise's taken off: the power its noise draw shows where
+// it has one, else white noise at the level the image's second differences give.
+cv::Mat captureRowTexture(const cv::Mat& grey, const cv::Mat& noise, const cv::Mat& object, int radiusPx) {
+    if (noise.empty()) return rowTextureGreyPerPx(grey, imageNoiseGrey(grey, object), radiusPx);
+    CV_Assert(noise.size() == grey.size());
+    return rowTextureGreyPerPx(grey, rowNoisePower(noise, radiusPx), radiusPx);
+}
+
+}  // namespace
 
 FaintIce faintIce(const RowTextureInputs& in, const RowTextureOptions& o) {
     const cv::Size size = in.currentGrey.size();
     CV_Assert(in.baselineGrey.size() == size && in.baselineObject.size() == size && in.thicknessMm.size() == size);
     CV_Assert(in.thicknessMm.type() == CV_32FC1 && in.baselineObject.type() == CV_8UC1);
-    // The noise is the image's, wherever on the object it is read (the object moved little).
-    const cv::Mat before =
-        rowTextureGreyPerPx(in.baselineGrey, imageNoiseGrey(in.baselineGrey, in.baselineObject), o.radiusPx);
-    const cv::Mat now =
-        rowTextureGreyPerPx(in.currentGrey, imageNoiseGrey(in.currentGrey, in.baselineObject), o.radiusPx);
+    // Without a noise draw the noise is the image's, wherever on the object it is read (the object moved little).
+    const cv::Mat before = captureRowTexture(in.baselineGrey, in.baselineNoise, in.baselineObject, o.radiusPx);
+    const cv::Mat now = captureRowTexture(in.currentGrey, in.currentNoise, in.baselineObject, o.radiusPx);
     cv::Mat lost = cv::Mat::zeros(size, CV_8U);
     for (int y = 0; y < size.height; ++y) {
         const std::uint8_t* object = in.baselineObject.ptr<std::uint8_t>(y);

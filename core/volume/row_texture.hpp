@@ -13,14 +13,18 @@ namespace icewatch::volume {
 // keeps its shading across the rows and loses its own faint texture along them. Its top was then
 // read at the blade's depth around it (a 257 391 mm³ bead read -85 % and `ok` against ±37 %:
 // 0.2 px too far where it was 3-6 mm thick, 0.7 px at 9-15 mm). The JPEG encoding quantises such
-// faint texture away alike in every frame, so averaging the frames does not bring it back.
+// faint texture away alike in every frame, so averaging the frames does not bring it back. The
+// noise must be taken off what is read as texture, or a few frames' noise passes for it: on JPEG
+// frames the image's second differences see an eighth of the noise power the horizontal
+// difference does, so the noise is taken from a draw of each average's own noise instead.
 struct RowTextureOptions {
     int radiusPx = 6;  // the window the texture is taken over: the slanted window's
-    // Texture along the rows above the image noise's own, grey levels per pixel (the rms of the
-    // horizontal derivative over the window, the noise's share taken off), below which a pixel
-    // is faint. Rendered beads read -85 and -123 % at 0.22-0.24 and -18 % at 0.34; leading-edge
-    // horns, ridges and beads that read within their bars carry 0.7-1.5.
-    double minGreyPerPx = 0.3;
+    // Texture along the rows above the capture's own noise, grey levels per pixel (the rms of the
+    // horizontal derivative over the window, the noise draw's power taken off), below which a
+    // pixel is faint. Set on texture with the noise taken off: beads that read -85 to -100 %
+    // stand at 33-49 % faint (4-64 frames), beads that read -18 to -29 % inside their bars at
+    // 6-18 %, leading-edge horns and ridges at 0-1 %.
+    double minGreyPerPx = 0.2;
     double minIceMm = 1.0;  // a pixel where the ice read at least this thick is ice
     int minIcePixels = 400;  // fewer ice pixels than this are not judged
     // A share of the ice's pixels faint beyond which its thickness is not measured but carried over
@@ -36,8 +40,15 @@ struct RowTextureOptions {
 // third of the clean blade faint). 0 when the mask is empty.
 double imageNoiseGrey(const cv::Mat& grey, const cv::Mat& mask);
 
+// The power a noise draw (AveragedCapture::noise, rectified: Surface::leftNoise) shows in the
+// horizontal central difference, per pixel: its local mean over the (2r+1)² window (CV_32F,
+// grey levels² per pixel²). The image's noise has the same, whatever its spectrum.
+cv::Mat rowNoisePower(const cv::Mat& noise, int radiusPx);
+
 // Per pixel of `grey` (CV_32F), the rms of the horizontal central difference over the
-// (2r+1)² window, with the noise's share (noiseGrey² / 2) taken off; 0 where the noise is all.
+// (2r+1)² window, with the noise's share (`noisePower`, CV_32F, per pixel) taken off; 0 where the
+// noise is all. With a level `noiseGrey` instead, the noise is taken as white (its share σ²/2).
+cv::Mat rowTextureGreyPerPx(const cv::Mat& grey, const cv::Mat& noisePower, int radiusPx);
 cv::Mat rowTextureGreyPerPx(const cv::Mat& grey, double noiseGrey, int radiusPx);
 
 struct FaintIce {
@@ -55,6 +66,7 @@ struct FaintIce {
 // capture's thickness as read (CV_32F, mm, NaN where none was read).
 struct RowTextureInputs {
     cv::Mat baselineGrey, currentGrey;
+    cv::Mat baselineNoise, currentNoise;  // each capture's noise draw (empty: none)
     cv::Mat baselineObject;
     std::function<cv::Point2d(cv::Point2d)> toCurrent;
     double lightRatio = 1.0;
@@ -66,7 +78,8 @@ struct RowTextureInputs {
 // anything from no ice to much (the baseline carried at least minGreyPerPx and twice the texture
 // that the light's change leaves, the current capture less than minGreyPerPx). Of those, the
 // faint: lost, or read with less texture along the rows than minGreyPerPx. Each image's noise is
-// its own, read over the baseline's object.
+// its own: the power its noise draw shows, or without one white noise at the level its second
+// differences give over the baseline's object.
 FaintIce faintIce(const RowTextureInputs& in, const RowTextureOptions& options);
 
 }  // namespace icewatch::volume

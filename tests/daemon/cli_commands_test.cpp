@@ -96,14 +96,14 @@ TEST(CliCommands, BaselineRestoreSwapsInThePreviousOne) {
     const auto dir = icewatch::test::freshTempDir();
     const StereoPair pair = texturedPair(0.5);
     std::string error;
-    ASSERT_TRUE(saveBaseline(dir, {testEpoch(), "c0ffee", pair, "first"}, error)) << error;
+    ASSERT_TRUE(saveBaseline(dir, {testEpoch(), "c0ffee", pair, "first", {}}, error)) << error;
     const auto config = dir / "icewatch.json";
     std::ofstream(config) << "{}";
     const std::vector<std::string> restore{icewatchBin(), "baseline", "restore", "--config", config.string(),
                                            "--state-dir", dir.string()};
     auto r = icewatch::test::runProgram(restore);
     EXPECT_EQ(r.status, 66) << "nothing to go back to: " << r.err;
-    ASSERT_TRUE(saveBaseline(dir, {testEpoch() + std::chrono::hours(1), "c0ffee", pair, "second"}, error)) << error;
+    ASSERT_TRUE(saveBaseline(dir, {testEpoch() + std::chrono::hours(1), "c0ffee", pair, "second", {}}, error)) << error;
     r = icewatch::test::runProgram(restore);
     EXPECT_EQ(r.status, 0) << r.err;
     const auto record = loadBaseline(dir, error);

@@ -68,7 +68,7 @@ TEST(Daemon, TheChainsStagesKeepTheServiceManagerInformed) {
     const config::Config config = testConfig(dir);
     prepareStateDir(dir);
     std::string error;
-    ASSERT_TRUE(saveBaseline(dir, {testEpoch(), "c0ffee", texturedPair(), "test"}, error)) << error;
+    ASSERT_TRUE(saveBaseline(dir, {testEpoch(), "c0ffee", texturedPair(), "test", {}}, error)) << error;
     auto chain = std::make_unique<ScriptedChain>();
     chain->baselineSet = false;
     chain->stages = 40;
@@ -319,6 +319,8 @@ TEST(Daemon, NoBaselineUntilOneIsCapturedThenItSurvivesARestart) {
     {
         Rig again({}, dir, [](ScriptedChain& c) { c.baselineSet = false; });
         EXPECT_TRUE(again.chain->hasBaseline()) << "the stored baseline is loaded at start";
+        EXPECT_FALSE(again.chain->baselineNoise.left.empty()) << "with the noise draw its burst gave";
+        EXPECT_EQ(again.chain->baselineNoise.left.size(), again.chain->baselineNoise.right.size());
         EXPECT_EQ(again.daemon->runOnce()->status, CycleStatus::Ok);
     }
     {

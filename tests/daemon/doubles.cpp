@@ -41,18 +41,19 @@ CameraState ScriptedSource::health(std::string& detail) {
     return plugged ? CameraState::Ok : CameraState::Offline;
 }
 
-ChainResult ScriptedChain::setBaseline(StereoPair clean) {
+ChainResult ScriptedChain::setBaseline(StereoPair clean, StereoPair noise) {
     for (int i = 0; i < stages && progress; ++i) progress();
     if (clean.left.empty()) {
         return refusedResult("empty baseline");
     }
     baselineSet = true;
+    baselineNoise = std::move(noise);
     ChainResult r;
     r.status = ChainResult::Status::Ok;
     return r;
 }
 
-ChainResult ScriptedChain::estimate(StereoPair current) {
+ChainResult ScriptedChain::estimate(StereoPair current, StereoPair /*noise*/) {
     ++calls;
     for (int i = 0; i < stages && progress; ++i) progress();
     if (!baselineSet) {

@@ -41,15 +41,16 @@ public:
 class ScriptedChain : public MeasurementChain {
 public:
     std::string calibrationSha256() const override { return calibration; }
-    ChainResult setBaseline(StereoPair clean) override;
+    ChainResult setBaseline(StereoPair clean, StereoPair noise) override;
     bool hasBaseline() const override { return baselineSet; }
-    ChainResult estimate(StereoPair current) override;
+    ChainResult estimate(StereoPair current, StereoPair noise) override;
     void onProgress(std::function<void()> hook) override { progress = std::move(hook); }
 
     std::string calibration = "c0ffee";
     int stages = 0;  // setBaseline and estimate report this many stages done before they answer
     std::function<void()> progress;
     bool baselineSet = true;
+    StereoPair baselineNoise;  // the noise draw the last setBaseline was given
     int calls = 0;
     std::function<ChainResult(int call, const StereoPair&)> script;  // default: 1000 mm³ ± 50
 };

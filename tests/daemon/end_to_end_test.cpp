@@ -66,7 +66,7 @@ TEST(EndToEnd, RecordingThroughTheFakeCameraWithAnUnplugMidBurst) {
     // The clean-blade reference, stored as `icewatch baseline capture` stores it.
     prepareStateDir(dir / "state");
     std::string error;
-    ASSERT_TRUE(saveBaseline(dir / "state", {testEpoch(), "scene", splitSideBySide(scene.before), "test"}, error)) << error;
+    ASSERT_TRUE(saveBaseline(dir / "state", {testEpoch(), "scene", splitSideBySide(scene.before), "test", {}}, error)) << error;
 
     // The device's frame 5 is the second frame of cycle 2's burst (00:10; cycle 1 and the camera
     // check at 00:05 used the earlier ones): the cable is pulled there. The device comes back on
@@ -133,10 +133,10 @@ TEST(EndToEnd, ARefusedMeasurementKeepsItsPicturesWithTheReason) {
         parameters.roiPolygon.push_back(p.y);
     }
     VolumeMeasurementChain chain(scene.calibration, "scene", parameters, {5.0});
-    ASSERT_EQ(chain.setBaseline(splitSideBySide(scene.before)).status, ChainResult::Status::Ok);
+    ASSERT_EQ(chain.setBaseline(splitSideBySide(scene.before), {}).status, ChainResult::Status::Ok);
     // Night: the gate refuses what the matcher saw.
     const cv::Mat night = scene.after * 0.05;
-    const ChainResult refused = chain.estimate(splitSideBySide(night));
+    const ChainResult refused = chain.estimate(splitSideBySide(night), {});
     ASSERT_EQ(refused.status, ChainResult::Status::Refused) << refused.reason;
     for (const cv::Mat* picture : {&refused.pictures.left, &refused.pictures.disparity, &refused.pictures.thickness}) {
         ASSERT_FALSE(picture->empty());
@@ -144,7 +144,7 @@ TEST(EndToEnd, ARefusedMeasurementKeepsItsPicturesWithTheReason) {
         cv::inRange((*picture)(cv::Rect(0, 0, picture->cols, 30)), cv::Scalar::all(200), cv::Scalar::all(255), white);
         EXPECT_GT(cv::countNonZero(white), 20) << "the reason written across the top";
     }
-    const ChainResult measured = chain.estimate(splitSideBySide(scene.after));
+    const ChainResult measured = chain.estimate(splitSideBySide(scene.after), {});
     ASSERT_EQ(measured.status, ChainResult::Status::Ok) << measured.reason;
     EXPECT_GT(measured.pictures.thickness.cols, 320) << "the eye and its colour bar";
 }
@@ -164,8 +164,8 @@ TEST(EndToEnd, TheDaemonsChainMatchesAsTheConfigurationSays) {
     }
     auto measured = [&](const config::Config& c) {
         const std::unique_ptr<MeasurementChain> chain = makeMeasurementChain(c);
-        EXPECT_EQ(chain->setBaseline(splitSideBySide(scene.before)).status, ChainResult::Status::Ok);
-        const ChainResult r = chain->estimate(splitSideBySide(scene.after));
+        EXPECT_EQ(chain->setBaseline(splitSideBySide(scene.before), {}).status, ChainResult::Status::Ok);
+        const ChainResult r = chain->estimate(splitSideBySide(scene.after), {});
         EXPECT_EQ(r.status, ChainResult::Status::Ok) << r.reason;
         return r.volumeMm3;
     };

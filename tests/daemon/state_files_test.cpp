@@ -11,6 +11,7 @@
 
 #include "core/common/error.hpp"
 #include "daemon/atomic_file.hpp"
+#include "daemon/baseline_store.hpp"
 #include "daemon/cycle_result.hpp"
 #include "daemon/history.hpp"
 #include "daemon/iso_time.hpp"
@@ -22,6 +23,46 @@ namespace {
 std::string readFile(const std::filesystem::path& p) {
     std::ifstream in(p, std::ios::binary);
     return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+TEST(BaselineStore, TheNoiseDrawIsKeptSignedToAFractionOfAGreyLevel) {
+    const auto dir = icewatch::test::freshTempDir();
+    BaselineRecord record{testEpoch(), "c0ffee", {}, "test", {}};
+    cv::RNG rng(5);
+    for (cv::Mat* eye : {&record.pair.left, &record.pair.right, &record.noise.left, &record.noise.right}) {
+        *eye = cv::Mat(48, 64, CV_32F);
+        rng.fill(*eye, cv::RNG::UNIFORM, 0.0, 255.0);
+    }
+    rng.fill(record.noise.left, cv::RNG::NORMAL, 0.0, 0.4);
+    rng.fill(record.noise.right, cv::RNG::NORMAL, 0.0, 0.4);
+    std::string error;
+    ASSERT_TRUE(saveBaseline(dir, record, error)) << error;
+    auto loaded = loadBaseline(dir, error);
+    ASSERT_TRUE(loaded) << error;
+    ASSERT_EQ(loaded->noise.left.size(), record.noise.left.size());
+    EXPECT_LE(cv::norm(loaded->noise.left, record.noise.left, cv::NORM_INF), 0.51 / 256.0);
+    EXPECT_LE(cv::norm(loaded->noise.right, record.noise.right, cv::NORM_INF), 0.51 / 256.0);
+
+    // A record kept before the draw was stored loads without one.
+    nlohmann::json doc = nlohmann::json::parse(readFile(dir / "baseline" / "baseline.json"));
+    const std::string noiseLeft = doc["noise_left"];
+    doc.erase("noise_left");
+    doc.erase("noise_right");
+    std::ofstream(dir / "baseline" / "baseline.json") << doc.dump();
+    loaded = loadBaseline(dir, error);
+    ASSERT_TRUE(loaded) << error;
+    EXPECT_TRUE(loaded->noise.left.empty());
+
+    // One named but gone is an error that names it, not a reference read without it.
+    doc["noise_left"] = noiseLeft;
+    doc["noise_right"] = "noise-right-gone.png";
+    std::ofstream(dir / "baseline" / "baseline.json") << doc.dump();
+    EXPECT_FALSE(loadBaseline(dir, error));
+    EXPECT_NE(error.find("noise-right-gone.png"), std::string::npos) << error;
+    doc.erase("noise_right");
+    std::ofstream(dir / "baseline" / "baseline.json") << doc.dump();
+    EXPECT_FALSE(loadBaseline(dir, error));
+    EXPECT_NE(error.find("noise_right"), std::string::npos) << error;
 }
 
 TEST(AtomicFile, AKillDuringWritesLeavesTheOldOrTheNewDocument) {

@@ -84,7 +84,7 @@ void addBaselineCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunct
             }
             const auto time = std::chrono::system_clock::now();
             daemon::BaselineRecord record{time, chain->calibrationSha256(), std::move(captured.pair),
-                                          o->force ? "cli, forced" : "cli"};
+                                          o->force ? "cli, forced" : "cli", std::move(captured.noise)};
             std::string error;
             if (!daemon::saveBaseline(config.daemon.stateDir, record, error)) {
                 throw Error(kExitCantCreate, error);

@@ -70,8 +70,8 @@ ChainRun runChain(const volume::SceneFiles& scene, const volume::Parameters& par
     volume::VolumeChain chain(scene.calibration, parameters, [] { return std::chrono::steady_clock::now(); },
                               stereoParameters);
     ChainRun run;
-    run.baseline = chain.measureSurface(scene.before.frame);
-    run.current = chain.measureSurface(scene.after.frame, run.baseline);
+    run.baseline = chain.measureSurface(scene.before.frame, scene.before.noise);
+    run.current = chain.measureSurface(scene.after.frame, run.baseline, scene.after.noise);
     run.result = chain.estimate(run.baseline, run.current);
     return run;
 }
@@ -181,13 +181,20 @@ void addVolumeCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunctio
             // Each average (17 MB at 3840x1080) is moved in unless compared later: the chain frees
             // it once rectified (measureSurface), before the match, where the memory peaks.
             const bool compared = o->compareFullFrame || o->compareSlanted;
-            cv::Mat beforeFrame = before.frame;
-            if (!compared) before.frame.release();
-            const volume::Surface baseline = chain.measureSurface(std::move(beforeFrame));
+            cv::Mat beforeFrame = before.frame, beforeNoise = before.noise;
+            if (!compared) {
+                before.frame.release();
+                before.noise.release();
+            }
+            const volume::Surface baseline = chain.measureSurface(std::move(beforeFrame), std::move(beforeNoise));
             progress.show("measuring the current capture");
-            cv::Mat afterFrame = after.frame;
-            if (!compared) after.frame.release();
-            const volume::Surface current = chain.measureSurface(std::move(afterFrame), baseline);
+            cv::Mat afterFrame = after.frame, afterNoise = after.noise;
+            if (!compared) {
+                after.frame.release();
+                after.noise.release();
+            }
+            const volume::Surface current =
+                chain.measureSurface(std::move(afterFrame), baseline, std::move(afterNoise));
             progress.show("estimating the ice");
             const volume::VolumeResult r = chain.estimate(baseline, current);
             const double rssMb = peakRssMb();

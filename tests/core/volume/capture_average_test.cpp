@@ -55,6 +55,33 @@ TEST(CaptureAverage, NoisyCopiesAverageToWithinSigmaOverRootN) {
     }
 }
 
+TEST(CaptureAverage, TheNoiseDrawHasTheAveragesNoiseLevelAndNoneOfItsScene) {
+    const cv::Mat truth = scene();
+    const double sigma = 4.0;
+    for (const int n : {2, 3, 4, 7, 16}) {
+        std::vector<cv::Mat> frames;
+        for (int i = 0; i < n; ++i) frames.push_back(noisyFrame(truth, sigma, 300 + i));
+        const AveragedCapture a = averageCapture(frames, {}, lenient());
+        ASSERT_EQ(a.noise.type(), CV_32FC1) << n << " frames";
+        ASSERT_EQ(a.noise.size(), truth.size());
+        const double root = std::sqrt(static_cast<double>(n));
+        const double expected = std::sqrt(sigma * sigma + 1.0 / 12.0) / root;
+        // Its level is the average's own, odd counts included.
+        cv::Scalar mean, deviation;
+        cv::meanStdDev(a.noise, mean, deviation);
+        EXPECT_NEAR(deviation[0], expected, 0.05 * expected) << n << " frames";
+        EXPECT_NEAR(mean[0], 0.0, 0.05 * expected) << n << " frames";
+        // The scene cancels: the draw does not follow the scene's texture (a draw that kept a
+        // frame's scene would correlate with it fully).
+        cv::Mat sceneOff = truth - cv::mean(truth)[0];
+        const double correlation = sceneOff.dot(a.noise) / (cv::norm(sceneOff) * cv::norm(a.noise));
+        EXPECT_LT(std::abs(correlation), 0.02) << n << " frames";
+    }
+    // One frame has no second to tell its noise from its scene by.
+    const AveragedCapture one = averageCapture({noisyFrame(truth, sigma, 1)}, {}, lenient());
+    EXPECT_TRUE(one.noise.empty());
+}
+
 TEST(CaptureAverage, FramesThatMovedOrAreDarkAreLeftOutAndNamed) {
     const cv::Mat truth = scene();
     std::vector<cv::Mat> frames;

@@ -150,10 +150,12 @@ VolumeResult measureRenderedBlade(const synth::SyntheticScene& scene, stereo::Me
         for (const auto& jpeg : jpegs) frames.push_back(cv::imdecode(jpeg, cv::IMREAD_COLOR));
         CaptureAverageOptions options;
         options.health.minSharpness = 0;
-        return averageCapture(frames, {}, options).frame;
+        return averageCapture(frames, {}, options);
     };
-    const Surface baseline = chain.measureSurface(average(scene.beforeJpeg));
-    Surface current = chain.measureSurface(average(scene.afterJpeg), baseline);
+    const AveragedCapture before = average(scene.beforeJpeg);
+    const Surface baseline = chain.measureSurface(before.frame, before.noise);
+    const AveragedCapture after = average(scene.afterJpeg);
+    Surface current = chain.measureSurface(after.frame, baseline, after.noise);
     if (adjustCurrent) adjustCurrent(current);
     return chain.estimate(baseline, current);
 }

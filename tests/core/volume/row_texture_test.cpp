@@ -1,9 +1,11 @@
 // Texture along the image rows where the ice was read.
 #include "core/volume/row_texture.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -60,12 +62,45 @@ TEST(RowTexture, ShadingAcrossTheRowsIsNoTextureAndASineAlongThemIs) {
     EXPECT_LT(texture.at<float>(20, 160), 0.15);
 }
 
+
+// JPEG-like noise: white noise with its finest frequencies taken away, which the image's second
+// differences miss and the horizontal difference does not.
+cv::Mat smoothedNoise(cv::Size size, double sigma, std::uint64_t seed) {
+    cv::Mat noise(size, CV_32F);
+    cv::RNG(seed).fill(noise, cv::RNG::NORMAL, 0.0, sigma);
+    cv::GaussianBlur(noise, noise, {0, 0}, 0.8);
+    return noise;
+}
+
+TEST(RowTexture, ANoiseDrawTakesOffTheNoiseTheImagesSecondDifferencesMiss) {
+    const double amplitude = 1.0;
+    const cv::Mat clean = shadedImage(amplitude, 100, 0.0);
+    const cv::Mat image = clean + smoothedNoise(clean.size(), 3.0, 1);
+    const cv::Mat draw = smoothedNoise(clean.size(), 3.0, 2);  // the same noise, another draw
+    const cv::Mat all(image.size(), CV_8U, cv::Scalar(255));
+    const cv::Mat byDraw = rowTextureGreyPerPx(image, rowNoisePower(draw, 6), 6);
+    const cv::Mat byImage = rowTextureGreyPerPx(image, imageNoiseGrey(image, all), 6);
+    const double expected = amplitude * std::sin(2.0 * kPi / 9.0) / std::sqrt(2.0);
+    auto median = [](const cv::Mat& texture, int x0, int x1) {
+        std::vector<float> v;
+        for (int y = 10; y < texture.rows - 10; ++y)
+            for (int x = x0; x < x1; ++x) v.push_back(texture.at<float>(y, x));
+        std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+        return double(v[v.size() / 2]);
+    };
+    // Where the noise is all, the draw leaves little; the image's own estimate leaves most of it,
+    // more than the texture beside it.
+    EXPECT_LT(median(byDraw, 120, 190), 0.5 * expected);
+    EXPECT_GT(median(byImage, 120, 190), expected);
+    // The texture is still found beside it.
+    EXPECT_NEAR(median(byDraw, 10, 90), expected, 0.35 * expected);
+}
 cv::Mat noThickness(cv::Size size) { return {size, CV_32F, cv::Scalar(std::numeric_limits<float>::quiet_NaN())}; }
 
 RowTextureInputs unmoved(const cv::Mat& baseline, const cv::Mat& current, const cv::Mat& thickness) {
     cv::Mat object = cv::Mat::zeros(baseline.size(), CV_8U);
     object(cv::Rect(20, 20, 160, 80)).setTo(255);
-    return {baseline, current, object, [](cv::Point2d px) { return px; }, 1.0, thickness};
+    return {baseline, current, {}, {}, object, [](cv::Point2d px) { return px; }, 1.0, thickness};
 }
 
 TEST(RowTexture, IceReadWhereItsRowsCarryNoTextureIsFaint) {

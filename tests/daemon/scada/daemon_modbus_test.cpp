@@ -54,7 +54,7 @@ TEST(ScadaCycle, ModbusRegistersEqualTheResultDocumentOfARealCycle) {
     config.scada.modbus.listen = "127.0.0.1:0";
     prepareStateDir(dir / "state");
     std::string error;
-    ASSERT_TRUE(saveBaseline(dir / "state", {testEpoch(), "scene", splitSideBySide(scene.before), "test"}, error))
+    ASSERT_TRUE(saveBaseline(dir / "state", {testEpoch(), "scene", splitSideBySide(scene.before), "test", {}}, error))
         << error;
 
     v4l2::FakeUvcOptions fastCamera;
