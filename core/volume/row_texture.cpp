@@ -93,9 +93,9 @@ FaintIce faintIce(const RowTextureInputs& in, const RowTextureOptions& o) {
         for (int x = 0; x < size.width; ++x) {
             if (!object[x]) continue;
             const cv::Point2d at = in.toCurrent({double(x), double(y)});
-            if (!std::isfinite(at.x) || !std::isfinite(at.y)) continue;
+            // The range first (NaN fails it too): a huge place must not reach the rounding.
+            if (!(at.x > -0.5 && at.y > -0.5 && at.x < size.width - 0.5 && at.y < size.height - 0.5)) continue;
             const int u = static_cast<int>(std::lround(at.x)), v = static_cast<int>(std::lround(at.y));
-            if (u < 0 || v < 0 || u >= size.width || v >= size.height) continue;
             const float has = now.at<float>(v, u);
             if (had[x] >= o.minGreyPerPx && has < o.minGreyPerPx && has < 0.5 * in.lightRatio * had[x]) lost.at<std::uint8_t>(v, u) = 255;
         }

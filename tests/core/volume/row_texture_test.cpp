@@ -156,5 +156,21 @@ TEST(RowTexture, TextureLostWhereNoIceWasReadIsFaintIce) {
     EXPECT_EQ(dim.lostPixels, 0);
 }
 
+// A registration gone wild places the object nowhere or far off the image: nothing there is
+// counted, and nothing is read outside the image.
+TEST(RowTexture, PlacesOffTheImageOrNotANumberAreNotLookedAt) {
+    const cv::Mat baseline = shadedImage(2.0, 200, 0.5, 7);
+    const cv::Mat current = shadedImage(2.0, 100, 0.5, 8);
+    const RowTextureOptions options;
+    for (const double far : {1e30, -1e30, 1e12, std::numeric_limits<double>::quiet_NaN(),
+                             std::numeric_limits<double>::infinity(), -0.5, 200.5}) {
+        RowTextureInputs lost = unmoved(baseline, current, noThickness(baseline.size()));
+        lost.toCurrent = [far](cv::Point2d px) { return cv::Point2d(far, px.y); };
+        EXPECT_EQ(faintIce(lost, options).lostPixels, 0) << far;
+        lost.toCurrent = [far](cv::Point2d px) { return cv::Point2d(px.x, far); };
+        EXPECT_EQ(faintIce(lost, options).lostPixels, 0) << far;
+    }
+}
+
 }  // namespace
 }  // namespace icewatch::volume
