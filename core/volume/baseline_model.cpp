@@ -60,7 +60,8 @@ BaselineModel buildBaselineModel(const cv::Mat& roi, const cv::Mat& points, cons
     model.samples = baselineSamples(capture, roi, textureTrackOptions(p));
     model.ringPx = outlineGrowthPx(p, focalPx, model.plane.origin[2]);
     model.ringMask = outlineRing(roi, model.ringPx, p.edgeMarginPx);
-    model.ring = baselineCloud(points, measurableRing(capture, model.ringMask, p), model.plane, p);
+    model.ringMeasurable = measurableRing(capture, model.ringMask, p);
+    model.ring = baselineCloud(points, model.ringMeasurable, model.plane, p);
     cv::dilate(roi, model.objectGrown, cv::getStructuringElement(cv::MORPH_ELLIPSE, {5, 5}));
     model.featureless = featurelessBackground(leftGrey, model.objectGrown, p.outlineMinTextureGrey);
     model.blurPx = outlineBlurPx(leftGrey, roi, cv::Rect(0, 0, leftGrey.cols, leftGrey.rows));

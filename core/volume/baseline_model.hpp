@@ -26,6 +26,7 @@ struct BaselineModel {
     // width, and what the baseline saw there (the outline's own fringe, a table, nothing).
     int ringPx = 0;
     cv::Mat ringMask;  // CV_8U: the ring itself, from edge_margin_px to ringPx outside the region
+    cv::Mat ringMeasurable;  // CV_8U: the ring's pixels whose disparity is a measurement (measurableRing)
     BaselineCloud ring;
     // What the current capture's background is compared against (silhouette.hpp): the region grown
     // by 2 px, which the comparisons leave out, and the featureless background beside it.

@@ -19,7 +19,11 @@ namespace icewatch::volume {
 struct HiddenBackground {
     cv::Mat pixels;       // CV_8U per current left pixel
     RigidTransform toBaseline;
-    cv::Mat featureless;  // CV_8U per baseline left pixel: featureless background (featurelessBackground)
+    // CV_8U per baseline left pixel: background in front of which nothing is measured, so that only
+    // what it hides tells ice standing there: featureless (featurelessBackground, a sky), or
+    // textured (a table) where the baseline measured it and the current capture measures nothing
+    // in front of it.
+    cv::Mat unread;
 };
 
 // Where the baseline saw featureless background beside the object (a sky, not a table): the

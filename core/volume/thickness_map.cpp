@@ -116,7 +116,7 @@ ThicknessMap thicknessMap(const PlaneClouds& clouds, const cv::Mat& roi, const c
     // Per ring node, half of how far the outline stands off the background seen there (0 where it
     // does not): the band in which the underside of ice in front of it may lie.
     cv::Mat standoffHalfMm(grid.nv, grid.nu, CV_64F, cv::Scalar(0.0));
-    cv::Mat bare(grid.nv, grid.nu, CV_8U, cv::Scalar(0));  // outside the region, featureless background in the baseline
+    cv::Mat bare(grid.nv, grid.nu, CV_8U, cv::Scalar(0));  // outside the region, background nothing is measured in front of
     std::vector<double> seenRises;
     map.baselineHeight = baselineHeight.clone();
     fillFromNearest(map.baselineHeight, cv::Mat(grid.nv, grid.nu, CV_8U, cv::Scalar(255)));
@@ -132,7 +132,7 @@ ThicknessMap thicknessMap(const PlaneClouds& clouds, const cv::Mat& roi, const c
             const int x = static_cast<int>(std::lround(image[0] / image[2]));
             const int y = static_cast<int>(std::lround(image[1] / image[2]));
             if (x < 0 || y < 0 || x >= roi.cols || y >= roi.rows) continue;
-            if (!hidden.featureless.empty() && hidden.featureless.at<std::uint8_t>(y, x)) bare.at<std::uint8_t>(j, i) = 255;
+            if (!hidden.unread.empty() && hidden.unread.at<std::uint8_t>(y, x)) bare.at<std::uint8_t>(j, i) = 255;
             if (ring.at<std::uint8_t>(y, x)) {
                 // From what the baseline saw there (a table, more of a plate than the outline
                 // drawn on it, the matcher's fringe), or from the outline's nearest surface where
