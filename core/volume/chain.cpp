@@ -693,13 +693,9 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
         where.setTo(0, model->objectGrown);
         hidden.pixels = backgroundHidden(baseline.leftGrey, current.leftGrey, where, *lightRatio, p.outlineMinContrastGrey);
         hidden.toBaseline = transform;
-        // Only what it hides tells the ice in front of featureless background (a sky), and in front
-        // of a textured one (a table) the baseline measured where the current capture measures
-        // nothing: plain white ice standing out of the outline, which the matcher read as the
-        // table behind it or not at all (beads above a blade on a table read -44 to -71 % and `ok`
-        // outside their bars). The camera stays: the background is where it was.
-        hidden.unread = hidden.pixels & model->ringMeasurable & ~currentRing;
-        if (!model->featureless.empty()) hidden.unread |= model->featureless;
+        // Beads above a blade on a table, read by the matcher as the table behind them, read -44
+        // to -71 % and `ok` outside their bars before the table they hide told them.
+        hidden.unread = unreadBackground(hidden.pixels, model->ringMeasurable, currentRing, model->featureless);
     }
     const PlaneClouds clouds =
         planeClouds(model->cloud, model->ring, points(current), currentOutline, currentRing, plane, transform, p);

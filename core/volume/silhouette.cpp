@@ -14,6 +14,16 @@
 
 namespace icewatch::volume {
 
+cv::Mat unreadBackground(const cv::Mat& hidden, const cv::Mat& baselineMeasured, const cv::Mat& currentMeasured,
+                         const cv::Mat& featureless) {
+    cv::Mat unread;
+    cv::bitwise_not(currentMeasured, unread);
+    cv::bitwise_and(unread, baselineMeasured, unread);
+    cv::bitwise_and(unread, hidden, unread);
+    if (!featureless.empty()) cv::bitwise_or(unread, featureless, unread);
+    return unread;
+}
+
 cv::Mat backgroundHidden(const cv::Mat& baselineGrey, const cv::Mat& currentGrey, const cv::Mat& where,
                          double lightRatio, double minGrey) {
     CV_Assert(baselineGrey.type() == CV_32FC1 && currentGrey.type() == CV_32FC1 && where.type() == CV_8UC1);

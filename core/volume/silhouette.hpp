@@ -41,6 +41,15 @@ cv::Mat featurelessBackground(const cv::Mat& grey, const cv::Mat& object, double
 cv::Mat backgroundHidden(const cv::Mat& baselineGrey, const cv::Mat& currentGrey, const cv::Mat& where,
                          double lightRatio, double minGrey);
 
+// The hidden background in front of which nothing was read (HiddenBackground::unread): the
+// pixels of `hidden` the baseline measured as background (`baselineMeasured`) where the current
+// capture measures nothing in front of them (`currentMeasured`), and all of the baseline's
+// featureless background (`featureless`, may be empty). In front of a table, plain white ice
+// standing out of the outline is read as the table behind it or not at all, so only what it hides
+// tells it there, as in front of a sky. CV_8U, 255.
+cv::Mat unreadBackground(const cv::Mat& hidden, const cv::Mat& baselineMeasured, const cv::Mat& currentMeasured,
+                         const cv::Mat& featureless);
+
 // What the background hidden in the current capture says of a grid on the baseline's plane: per
 // node (placed at `heightMm` above the plane, moved into the current capture by the inverse of
 // `toBaseline` and projected with `k`), whether its pixel in `hidden` is set. CV_8U.

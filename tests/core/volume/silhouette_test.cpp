@@ -40,6 +40,22 @@ TEST(Silhouette, TheBackgroundHiddenIsWhatChangedBeyondTheLightAndTheNoise) {
 
 // A dark object on a sky with a gradient and a little noise, beside a grained table: the sky is
 // featureless up to the object's edge (the window leaves the object out), the table is not.
+TEST(Silhouette, UnreadBackgroundIsHiddenTableNothingIsReadInFrontOfAndAllTheSky) {
+    cv::Mat hidden = cv::Mat::zeros(40, 60, CV_8U), baselineMeasured = hidden.clone(),
+            currentMeasured = hidden.clone(), featureless = hidden.clone();
+    hidden(cv::Rect(10, 10, 30, 10)).setTo(255);           // a bead hides the table here
+    baselineMeasured.colRange(0, 30).setTo(255);           // the baseline read the table left of x 30
+    currentMeasured(cv::Rect(20, 0, 40, 40)).setTo(255);   // the current capture reads right of x 20
+    featureless(cv::Rect(50, 30, 10, 10)).setTo(255);      // the sky, in a corner
+    const cv::Mat unread = unreadBackground(hidden, baselineMeasured, currentMeasured, featureless);
+    EXPECT_EQ(cv::countNonZero(unread(cv::Rect(10, 10, 10, 10))), 100);  // hidden, read then, not now
+    EXPECT_EQ(cv::countNonZero(unread(cv::Rect(20, 10, 20, 10))), 0);    // something is read in front
+    EXPECT_EQ(cv::countNonZero(unread(cv::Rect(50, 30, 10, 10))), 100);  // featureless: always
+    EXPECT_EQ(cv::countNonZero(unread), 200);
+    // Without a sky, the table alone.
+    EXPECT_EQ(cv::countNonZero(unreadBackground(hidden, baselineMeasured, currentMeasured, cv::Mat())), 100);
+}
+
 TEST(Silhouette, FeaturelessBackgroundIsTheSkyNotTheTableNorTheObject) {
     std::mt19937 random(3);
     std::normal_distribution<float> noise(0.0f, 0.4f);
