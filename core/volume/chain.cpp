@@ -697,6 +697,29 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
         // to -71 % and `ok` outside their bars before the table they hide told them.
         hidden.unread = unreadBackground(hidden.pixels, model->ringMeasurable, currentRing, model->featureless);
     }
+    // --- what the drawn outline's left-out background hides now ---
+    // Left out as background where the object's texture was as featureless as the sky, the surface
+    // is measured nowhere; ice that appears there is outside everything the chain reads.
+    if (lightRatio && !impl_->polygonRoi.empty() && baseline.outlineBackgroundPercent > 0) {
+        cv::Mat leftOut = leftOutBackground(impl_->polygonRoi, baseline.roi, objectInCurrent, model->ringPx);
+        cv::Mat inBoth = cv::Mat::zeros(leftOut.size(), CV_8U);
+        inBoth(baseline.matchedWindow & current.matchedWindow & cv::Rect({}, leftOut.size())).setTo(255);
+        leftOut &= inBoth;
+        const cv::Mat appeared =
+            backgroundHidden(baseline.leftGrey, current.leftGrey, leftOut, *lightRatio, p.outlineMinContrastGrey);
+        const int appearedPx = cv::countNonZero(appeared);
+        if (appearedPx >= p.trackStepPx * p.trackStepPx) {
+            std::ostringstream reason;
+            reason.precision(3);
+            reason << "something appeared in what was left out of the drawn outline as background ("
+                   << appearedPx << " pixels beyond the " << model->ringPx
+                   << " px ring around the region; " << baseline.outlineBackgroundPercent
+                   << " % of the outline was left out): ice on a part of the object whose texture is too faint to "
+                      "tell from its background, which the region does not hold; draw the outline on the object's "
+                      "edge, or give it texture";
+            return refused(result, reason.str());
+        }
+    }
     const PlaneClouds clouds =
         planeClouds(model->cloud, model->ring, points(current), currentOutline, currentRing, plane, transform, p);
     result.pointsUsed = clouds.currentPoints;

@@ -24,6 +24,16 @@ cv::Mat unreadBackground(const cv::Mat& hidden, const cv::Mat& baselineMeasured,
     return unread;
 }
 
+cv::Mat leftOutBackground(const cv::Mat& drawn, const cv::Mat& region, const cv::Mat& regionInCurrent, int ringPx) {
+    cv::Mat watched = region | regionInCurrent;
+    const int size = 2 * std::max(0, ringPx) + 1;
+    cv::dilate(watched, watched, cv::getStructuringElement(cv::MORPH_ELLIPSE, {size, size}));
+    cv::Mat leftOut;
+    cv::bitwise_not(watched, leftOut);
+    cv::bitwise_and(leftOut, drawn, leftOut);
+    return leftOut;
+}
+
 cv::Mat backgroundHidden(const cv::Mat& baselineGrey, const cv::Mat& currentGrey, const cv::Mat& where,
                          double lightRatio, double minGrey) {
     CV_Assert(baselineGrey.type() == CV_32FC1 && currentGrey.type() == CV_32FC1 && where.type() == CV_8UC1);

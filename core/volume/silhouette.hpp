@@ -50,6 +50,15 @@ cv::Mat backgroundHidden(const cv::Mat& baselineGrey, const cv::Mat& currentGrey
 cv::Mat unreadBackground(const cv::Mat& hidden, const cv::Mat& baselineMeasured, const cv::Mat& currentMeasured,
                          const cv::Mat& featureless);
 
+// The background left out of an outline drawn by hand (drawn_outline.hpp) beyond the ring the
+// region is watched in: the drawn outline's pixels farther than ringPx from the region, both where
+// the baseline had it and where the object's motion put it (CV_8U, all three frame-sized). That
+// part was taken for background because its texture was as featureless as the background's; an
+// object whose own texture is that faint loses its surface to it, and ice appearing there lies
+// outside everything the chain measures (a block on a faint plate read -92 % and `ok`). What the
+// current capture hides of it is told by backgroundHidden, as the ring's is.
+cv::Mat leftOutBackground(const cv::Mat& drawn, const cv::Mat& region, const cv::Mat& regionInCurrent, int ringPx);
+
 // What the background hidden in the current capture says of a grid on the baseline's plane: per
 // node (placed at `heightMm` above the plane, moved into the current capture by the inverse of
 // `toBaseline` and projected with `k`), whether its pixel in `hidden` is set. CV_8U.

@@ -665,6 +665,28 @@ TEST(VolumeChain, APlainBeadStandingOutOfTheOutlineOverATableIsToldByTheTableItH
     EXPECT_GT(b.result.beyondOutlineMm3, 0.25 * b.scene.iceVolumeMm3);
 }
 
+// A plate whose texture a filmic curve and a 1.6 px blur left as faint as the sky: the drawn
+// outline lost 89 % of it to the background, the white block on it fell outside the region, and
+// the chain read -92 % as ok (12 336 +- 47 744 mm3 against 150 000: only the part of the block in
+// the ring around the region's scraps). What the left-out background hides now tells it.
+TEST(VolumeChain, IceAppearingInTheDrawnOutlinesLeftOutBackgroundIsRefused) {
+    synth::SceneSpec spec;
+    spec.kind = synth::SceneKind::Block;
+    spec.frameSize = {2560, 720};
+    spec.frames = 16;
+    spec.seed = 463;
+    spec.iceVolumeMm3 = 150000;
+    spec.motion = synth::MotionKind::Large;
+    spec.cloudDrift = 0.03;
+    spec.blurPx = 1.59;
+    spec.toneCurve = synth::ToneCurve::Filmic;
+    const AveragedBlade b = measureAveragedBlade(spec, stereo::Method::Paper);
+    ASSERT_FALSE(b.result.ok) << b.result.volumeMm3 << " +- " << b.result.uncertaintyMm3 << " against "
+                              << b.scene.iceVolumeMm3;
+    EXPECT_NE(b.result.reason.find("left out of the drawn outline as background"), std::string::npos)
+        << b.result.reason;
+}
+
 // Sheets of shed ice end in sharp steps, and stereo carries a step's nearer disparity over the
 // surface beside it; blurred by a lens out of focus, the step spreads and carries it further.
 // The outline shows how blurred the captures are, and the fattening the uncertainty allows grows

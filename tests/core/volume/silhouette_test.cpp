@@ -56,6 +56,21 @@ TEST(Silhouette, UnreadBackgroundIsHiddenTableNothingIsReadInFrontOfAndAllTheSky
     EXPECT_EQ(cv::countNonZero(unreadBackground(hidden, baselineMeasured, currentMeasured, cv::Mat())), 100);
 }
 
+TEST(Silhouette, LeftOutBackgroundIsTheDrawnOutlineBeyondTheRingWhereverTheObjectWas) {
+    cv::Mat drawn = cv::Mat::zeros(100, 200, CV_8U), region = drawn.clone(), regionInCurrent = drawn.clone();
+    drawn(cv::Rect(20, 20, 160, 60)).setTo(255);
+    region(cv::Rect(40, 40, 20, 20)).setTo(255);
+    regionInCurrent(cv::Rect(45, 40, 20, 20)).setTo(255);  // moved 5 px right
+    const cv::Mat leftOut = leftOutBackground(drawn, region, regionInCurrent, 10);
+    EXPECT_EQ(cv::countNonZero(leftOut(cv::Rect(0, 0, 200, 20))), 0);  // outside the drawn outline
+    EXPECT_FALSE(leftOut.at<std::uint8_t>(50, 50));                   // the region
+    EXPECT_FALSE(leftOut.at<std::uint8_t>(50, 74));                   // within 10 px of where it went
+    EXPECT_TRUE(leftOut.at<std::uint8_t>(50, 76));                    // beyond the ring of both
+    EXPECT_FALSE(leftOut.at<std::uint8_t>(50, 31));                   // within 10 px of where it was
+    EXPECT_TRUE(leftOut.at<std::uint8_t>(50, 29));
+    EXPECT_TRUE(leftOut.at<std::uint8_t>(25, 150));
+}
+
 TEST(Silhouette, FeaturelessBackgroundIsTheSkyNotTheTableNorTheObject) {
     std::mt19937 random(3);
     std::normal_distribution<float> noise(0.0f, 0.4f);
