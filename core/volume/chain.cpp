@@ -156,6 +156,10 @@ void checkParameters(const Parameters& p) {
     }
 }
 
+// The most the baseline's plane may be turned out of the view before it is taken for something
+// other than the object's surface.
+constexpr double kMaxPlaneObliquityDeg = 75.0;
+
 // Ice standing out of the outline on an object turned out of the view: what the camera sees of it
 // hides what lies behind it, the background or the object's own surface, and the chain reads that
 // hidden space as ice (a bead read as if seen from the front, a horn whose underside the view
@@ -551,6 +555,19 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     const PlaneFrame& plane = model->plane;
     const double depthMm = plane.origin[2];
     timer.lap("plane");
+    // A plane seen edge-on is not the object's surface: the region held more than the object (clouds
+    // behind an outline drawn as a box 30 px wide of a blade put it 29.9 m away at 89.4°), and the
+    // outline's rays met it kilometres off, a grid of 4852976 x 768945 nodes, and an error, not a
+    // reason. The tables turn an object by at most 30° (tilted) and 15° (swung).
+    if (const double obliquityDeg = viewObliquityDeg(plane); obliquityDeg > kMaxPlaneObliquityDeg) {
+        std::ostringstream reason;
+        reason.precision(3);
+        reason << "the region's surface is seen edge-on (" << obliquityDeg << "° out of the view, its plane "
+               << std::lround(depthMm) << " mm away, max " << kMaxPlaneObliquityDeg
+               << "°): the region holds more than the object, such as a background at other depths inside a "
+                  "loosely drawn outline; draw the outline on the object's edge";
+        return refused(result, reason.str());
+    }
 
     // --- how the object moved: from the texture the ice did not change, in both eyes ---
     const RectifiedCapture before{baseline.trackLeft, baseline.trackRight, baseline.disparity};

@@ -687,6 +687,34 @@ TEST(VolumeChain, IceAppearingInTheDrawnOutlinesLeftOutBackgroundIsRefused) {
         << b.result.reason;
 }
 
+// A box drawn 30 px wide of a blade with clouds drifting behind it: the ring outside it is not
+// featureless enough to say it lies on the sky, the box stays as drawn, and its clouds outweigh
+// the blade: the plane fitted to the region lay 29.9 m away, turned 89.4° out of the view, and the
+// outline's rays met it so far off that the grid's size ended the run with an error. It is
+// refused with the reason now.
+TEST(VolumeChain, ARegionWhosePlaneIsSeenEdgeOnIsRefusedWithTheReason) {
+    synth::SceneSpec spec = smallBladeSpec();
+    spec.frames = 16;
+    spec.seed = 1;
+    spec.iceVolumeMm3 = 197717;
+    spec.ice = synth::IceKind::Patches;
+    spec.motion = synth::MotionKind::None;
+    spec.cloudDrift = 0.1;
+    const synth::SyntheticScene scene = synth::renderScene(spec);
+    double x0 = 1e9, y0 = 1e9, x1 = -1e9, y1 = -1e9;
+    for (const cv::Point2d& q : scene.roi) {
+        x0 = std::min(x0, q.x - 30);
+        y0 = std::min(y0, q.y - 30);
+        x1 = std::max(x1, q.x + 30);
+        y1 = std::max(y1, q.y + 30);
+    }
+    const VolumeResult r = measureRenderedBlade(scene, stereo::Method::Paper, [&](Parameters& p) {
+        p.roiPolygon = {x0, y0, x1, y0, x1, y1, x0, y1};
+    });
+    ASSERT_FALSE(r.ok) << r.volumeMm3 << " +- " << r.uncertaintyMm3;
+    EXPECT_NE(r.reason.find("seen edge-on"), std::string::npos) << r.reason;
+}
+
 // Sheets of shed ice end in sharp steps, and stereo carries a step's nearer disparity over the
 // surface beside it; blurred by a lens out of focus, the step spreads and carries it further.
 // The outline shows how blurred the captures are, and the fattening the uncertainty allows grows
