@@ -558,7 +558,7 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     // A plane seen edge-on is not the object's surface: the region held more than the object (clouds
     // behind an outline drawn as a box 30 px wide of a blade put it 29.9 m away at 89.4°), and the
     // outline's rays met it kilometres off, a grid of 4852976 x 768945 nodes, and an error, not a
-    // reason. The tables turn an object by at most 30° (tilted) and 15° (swung).
+    // reason. The renderer turns an object by at most 45° about each axis (60° about both at once).
     if (const double obliquityDeg = viewObliquityDeg(plane); obliquityDeg > kMaxPlaneObliquityDeg) {
         std::ostringstream reason;
         reason.precision(3);
