@@ -8,6 +8,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "core/volume/beyond_outline.hpp"
 #include "core/volume/mask_parts.hpp"
 #include "core/volume/patch_tracker.hpp"
 #include "core/volume/robust_statistics.hpp"
@@ -25,9 +26,10 @@ cv::Mat unreadBackground(const cv::Mat& hidden, const cv::Mat& baselineMeasured,
 }
 
 cv::Mat leftOutBackground(const cv::Mat& drawn, const cv::Mat& region, const cv::Mat& regionInCurrent, int ringPx) {
+    // The ring's dilation keeps to the region's box and the ring's reach: a disc 91 px across over
+    // the whole frame took 80 ms a cycle.
     cv::Mat watched = region | regionInCurrent;
-    const int size = 2 * std::max(0, ringPx) + 1;
-    cv::dilate(watched, watched, cv::getStructuringElement(cv::MORPH_ELLIPSE, {size, size}));
+    watched |= outlineRing(watched, ringPx);
     cv::Mat leftOut;
     cv::bitwise_not(watched, leftOut);
     cv::bitwise_and(leftOut, drawn, leftOut);
