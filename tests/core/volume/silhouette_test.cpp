@@ -38,8 +38,6 @@ TEST(Silhouette, TheBackgroundHiddenIsWhatChangedBeyondTheLightAndTheNoise) {
     EXPECT_LT(cv::countNonZero(backgroundHidden(baseline, current, where, 0.9, 3.0)), 10);
 }
 
-// A dark object on a sky with a gradient and a little noise, beside a grained table: the sky is
-// featureless up to the object's edge (the window leaves the object out), the table is not.
 TEST(Silhouette, UnreadBackgroundIsHiddenTableNothingIsReadInFrontOfAndAllTheSky) {
     cv::Mat hidden = cv::Mat::zeros(40, 60, CV_8U), baselineMeasured = hidden.clone(),
             currentMeasured = hidden.clone(), featureless = hidden.clone();
@@ -71,6 +69,8 @@ TEST(Silhouette, LeftOutBackgroundIsTheDrawnOutlineBeyondTheRingWhereverTheObjec
     EXPECT_TRUE(leftOut.at<std::uint8_t>(25, 150));
 }
 
+// A dark object on a sky with a gradient and a little noise, beside a grained table: the sky is
+// featureless up to the object's edge (the window leaves the object out), the table is not.
 TEST(Silhouette, FeaturelessBackgroundIsTheSkyNotTheTableNorTheObject) {
     std::mt19937 random(3);
     std::normal_distribution<float> noise(0.0f, 0.4f);
