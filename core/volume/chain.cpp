@@ -746,9 +746,17 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     }
 
     // --- thickness on the plane's grid, where the ice may be ---
-    const ThicknessMap map = thicknessMap(clouds, baseline.roi, model->ringMask, possibleIce, plane,
-                                          impl_->projection.get_minor<3, 3>(0, 0), p, hidden,
-                                          seenThroughPixels(baseline.roi, tracks, p.trackStepPx, motion.objectLightShifted));
+    ThicknessMap map;
+    try {
+        map = thicknessMap(clouds, baseline.roi, model->ringMask, possibleIce, plane,
+                           impl_->projection.get_minor<3, 3>(0, 0), p, hidden,
+                           seenThroughPixels(baseline.roi, tracks, p.trackStepPx, motion.objectLightShifted));
+    } catch (const InvalidInput& e) {
+        // The scene is not malformed, the region is: its outline reaches where the object's plane
+        // is not (a plane under kMaxPlaneObliquityDeg still grazes the rays at the frame's edge).
+        return refused(result, std::string("the region's outline does not lie on the object's plane (") + e.what() +
+                                   "): the region holds more than the object; draw the outline on the object's edge");
+    }
     if (map.insideNodes == 0) return refused(result, "the region covers no part of the measured surface");
     result.filledPercent = 100.0 * map.filledNodes / std::max(1, map.iceNodes);
     timer.lap("grid");

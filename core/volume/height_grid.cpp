@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <limits>
+#include <sstream>
 #include <vector>
 
 #include <opencv2/imgproc.hpp>
@@ -49,13 +51,18 @@ GridSpec makeGrid(double uMin, double uMax, double vMin, double vMax, double cel
     if (!(uMax > uMin) || !(vMax > vMin) || !(cellMm > 0)) {
         throw InvalidInput("grid: the region must have a positive extent and the cell a positive size");
     }
-    GridSpec grid;
-    grid.nu = static_cast<int>(std::ceil((uMax - uMin) / cellMm)) + 1;
-    grid.nv = static_cast<int>(std::ceil((vMax - vMin) / cellMm)) + 1;
-    if (static_cast<double>(grid.nu) * grid.nv > 5e7) {
-        throw InvalidInput("grid: " + std::to_string(grid.nu) + " x " + std::to_string(grid.nv) +
-                           " nodes is too many; use a larger cell");
+    // Counted in floating point first: an extent of kilometres (or an infinite one) would overflow
+    // the cast to int before any bound on the count could see it.
+    const double nu = std::ceil((uMax - uMin) / cellMm) + 1;
+    const double nv = std::ceil((vMax - vMin) / cellMm) + 1;
+    if (!std::isfinite(nu * nv) || nu * nv > 5e7) {
+        std::ostringstream what;
+        what << std::fixed << std::setprecision(0) << "grid: " << nu << " x " << nv << " nodes is too many; use a larger cell";
+        throw InvalidInput(what.str());
     }
+    GridSpec grid;
+    grid.nu = static_cast<int>(nu);
+    grid.nv = static_cast<int>(nv);
     grid.u0 = uMin;
     grid.v0 = vMin;
     grid.du = (uMax - uMin) / (grid.nu - 1);

@@ -4,10 +4,12 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include <opencv2/imgproc.hpp>
 
+#include "core/common/error.hpp"
 #include "core/volume/beyond_outline.hpp"
 #include "core/volume/robust_statistics.hpp"
 
@@ -27,6 +29,12 @@ GridSpec regionGrid(const cv::Mat& roi, const PlaneFrame& plane, const cv::Matx3
         for (const cv::Point& px : contour) {
             const cv::Vec3d ray = kInv * cv::Vec3d(px.x, px.y, 1.0);
             const double t = plane.normal.dot(plane.origin) / plane.normal.dot(ray);
+            // A ray parallel to the plane, or meeting it behind the camera, has no place on it: the
+            // outline reaches past where the plane can be seen (a plane seen nearly edge-on).
+            if (!(t > 0) || !std::isfinite(t)) {
+                throw InvalidInput("grid: the outline's pixel (" + std::to_string(px.x) + ", " +
+                                   std::to_string(px.y) + ") looks past the region's plane");
+            }
             const cv::Point3d local = plane.toPlane(t * ray);
             uMin = std::min(uMin, local.x);
             uMax = std::max(uMax, local.x);

@@ -52,6 +52,9 @@ struct ThicknessMap {
 // silhouette.hpp), the ice is tapered from the outline's (taperedIce) rather than measured from a
 // footing nobody saw. `seenThrough` (per left baseline pixel, may be empty) marks the ice nodes
 // where the object's texture was seen through the ice.
+//
+// Throws InvalidInput when the outline has no measurable extent on the plane: a pixel whose ray
+// meets it behind the camera or never, or a grid of too many nodes (a plane seen nearly edge-on).
 ThicknessMap thicknessMap(const PlaneClouds& clouds, const cv::Mat& roi, const cv::Mat& ring, const cv::Mat& possibleIce,
                           const PlaneFrame& plane, const cv::Matx33d& k, const Parameters& parameters,
                           const HiddenBackground& hidden = {}, const cv::Mat& seenThrough = {});

@@ -2,8 +2,12 @@
 
 #include <cmath>
 #include <functional>
+#include <limits>
+#include <string>
 
 #include <gtest/gtest.h>
+
+#include "core/common/error.hpp"
 
 namespace icewatch::volume {
 namespace {
@@ -52,6 +56,23 @@ TEST(HeightGrid, GridSpacingFollowsThePaper) {
     EXPECT_EQ(grid.nv, 3);
     EXPECT_DOUBLE_EQ(grid.du, 10.0 / 4);
     EXPECT_DOUBLE_EQ(grid.dv, 4.0 / 2);
+}
+
+// An outline whose rays graze the plane puts its extent kilometres off, or at infinity: the grid
+// refuses it with the count it would have needed rather than overflowing the cast to int.
+TEST(HeightGrid, AGridOfKilometresOrOfNoFiniteExtentIsAnErrorNamingItsSize) {
+    try {
+        makeGrid(0, 4.8e6, 0, 7.7e5, 1.0);
+        FAIL() << "a grid of 4.8 km x 770 m at 1 mm was built";
+    } catch (const InvalidInput& e) {
+        EXPECT_NE(std::string(e.what()).find("4800001 x 770001 nodes is too many"), std::string::npos) << e.what();
+    }
+    EXPECT_THROW(makeGrid(0, std::numeric_limits<double>::infinity(), 0, 10, 1.0), InvalidInput);
+    EXPECT_THROW(makeGrid(0, 10, 0, std::numeric_limits<double>::quiet_NaN(), 1.0), InvalidInput);
+    EXPECT_THROW(makeGrid(0, 10, 0, 10, 0.0), InvalidInput);
+    const GridSpec fine = makeGrid(0, 10, 0, 4, 0.5);
+    EXPECT_EQ(fine.nu, 21);
+    EXPECT_EQ(fine.nv, 9);
 }
 
 TEST(HeightGrid, LinearInterpolationIsExactOnAPlaneAndLeavesHolesOpen) {
