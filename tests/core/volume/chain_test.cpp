@@ -9,6 +9,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/common/error.hpp"
+#include "core/config/config.hpp"
 #include "core/synth/scene.hpp"
 #include "core/volume/capture_average.hpp"
 #include "core/volume/roi.hpp"
@@ -246,6 +247,20 @@ TEST(VolumeChain, AveragedIcedBladeIsMeasuredAndItsUncertaintyCoversTheError) {
     // Its trailing edge, clean against the sky, stayed where the motion put it.
     EXPECT_GE(std::min(r.outlineGrowthStations[0], r.outlineGrowthStations[1]), 20);
     EXPECT_LT(std::min(std::abs(r.outlineGrowthMm[0]), std::abs(r.outlineGrowthMm[1])), 0.3);
+}
+
+// A blade without ice that moved a little: what the registration misses or the matcher's noise
+// leaves is no ice. Read as ice, it would warn SCADA of a blade that has none; judged on its upper
+// bound (alarm.judge upper_bound) it stays under the default warning level.
+TEST(VolumeChain, ACleanBladeThatMovedReadsNoIceAndWarnsOfNone) {
+    synth::SceneSpec spec = smallBladeSpec();
+    spec.iceVolumeMm3 = 0;
+    const AveragedBlade b = measureAveragedBlade(spec, stereo::Method::Paper);
+    const VolumeResult& r = b.result;
+    ASSERT_TRUE(r.ok) << r.reason;
+    EXPECT_LT(std::abs(r.volumeMm3), r.uncertaintyMm3) << "measured " << r.volumeMm3 << " ± " << r.uncertaintyMm3;
+    EXPECT_LT(r.volumeMm3 + r.uncertaintyMm3, config::AlarmConfig{}.warningSet)
+        << "measured " << r.volumeMm3 << " ± " << r.uncertaintyMm3;
 }
 
 // An outline drawn by hand at commissioning, 20 px wide of the blade against the sky: measured as
