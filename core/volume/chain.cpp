@@ -746,17 +746,16 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     }
 
     // --- thickness on the plane's grid, where the ice may be ---
-    ThicknessMap map;
-    try {
-        map = thicknessMap(clouds, baseline.roi, model->ringMask, possibleIce, plane,
-                           impl_->projection.get_minor<3, 3>(0, 0), p, hidden,
-                           seenThroughPixels(baseline.roi, tracks, p.trackStepPx, motion.objectLightShifted));
-    } catch (const InvalidInput& e) {
-        // The scene is not malformed, the region is: its outline reaches where the object's plane
-        // is not (a plane under kMaxPlaneObliquityDeg still grazes the rays at the frame's edge).
-        return refused(result, std::string("the region's outline does not lie on the object's plane (") + e.what() +
+    const cv::Matx33d k = impl_->projection.get_minor<3, 3>(0, 0);
+    const OutlineGrid region = outlineGrid(baseline.roi | model->ringMask, plane, k, p.gridCellMm);
+    if (!region.grid) {
+        // A plane under kMaxPlaneObliquityDeg still grazes the rays at the frame's edge.
+        return refused(result, "the region's outline does not lie on the object's plane (" + region.problem +
                                    "): the region holds more than the object; draw the outline on the object's edge");
     }
+    const ThicknessMap map =
+        thicknessMap(*region.grid, clouds, baseline.roi, model->ringMask, possibleIce, plane, k, p, hidden,
+                     seenThroughPixels(baseline.roi, tracks, p.trackStepPx, motion.objectLightShifted));
     if (map.insideNodes == 0) return refused(result, "the region covers no part of the measured surface");
     result.filledPercent = 100.0 * map.filledNodes / std::max(1, map.iceNodes);
     timer.lap("grid");
@@ -801,7 +800,7 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     if (auto problem = outlineObliquityProblem(map, plane, result, p)) return refused(result, *problem);
 
     // --- for people (core/pictures draws it) ---
-    const cv::Matx33d kInv = impl_->projection.get_minor<3, 3>(0, 0).inv();
+    const cv::Matx33d kInv = k.inv();
     result.thicknessImageMm =
         thicknessInImage(ice.smoothedMm, map.grid, plane, transform, kInv, currentOutline | currentRing);
     const GridSpec& grid = map.grid;
@@ -820,7 +819,6 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     cv::Mat baselineObject;
     cv::erode(baseline.roi, baselineObject,
               cv::getStructuringElement(cv::MORPH_ELLIPSE, {2 * p.edgeMarginPx + 1, 2 * p.edgeMarginPx + 1}));
-    const cv::Matx33d k = impl_->projection.get_minor<3, 3>(0, 0);
     const FaintIce faint = faintIce({baseline.leftGrey, current.leftGrey, baseline.leftNoise, current.leftNoise, baselineObject,
                                      [&](cv::Point2d px) { return planePixelInCurrent(px, plane, transform, k).at; },
                                      lightRatio.value_or(1.0), result.thicknessImageMm},

@@ -1,5 +1,8 @@
 #pragma once
 
+#include <cmath>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -19,6 +22,14 @@ struct PlaneFrame {
         return {d.dot(axisU), d.dot(axisV), d.dot(normal)};
     }
     cv::Vec3d toCamera(double u, double v, double h) const { return origin + u * axisU + v * axisV + h * normal; }
+
+    // Where the ray from `from` along `ray` (camera coordinates) meets the plane; none when it runs
+    // parallel to the plane or meets it behind `from` (the plane seen past its horizon).
+    std::optional<cv::Vec3d> rayHit(const cv::Vec3d& ray, const cv::Vec3d& from = cv::Vec3d(0, 0, 0)) const {
+        const double t = normal.dot(origin - from) / normal.dot(ray);
+        if (!(t > 0) || !std::isfinite(t)) return std::nullopt;
+        return from + t * ray;
+    }
 };
 
 // Least-squares plane (PCA) through the points; the normal points towards the camera (origin).
@@ -32,8 +43,12 @@ struct GridSpec {
     double areaPerNodeMm2() const { return du * dv; }
 };
 
+// Why there can be no grid over [uMin, uMax] × [vMin, vMax] at `cellMm` (no positive or finite
+// extent, no positive cell, or too many nodes), in words; none when makeGrid can build it.
+std::optional<std::string> gridProblem(double uMin, double uMax, double vMin, double vMax, double cellMm);
+
 // The grid over [uMin, uMax] × [vMin, vMax] with N = ceil(extent / cell) + 1 nodes per axis and
-// Δ = extent / (N - 1), as the seed paper defines it.
+// Δ = extent / (N - 1), as the seed paper defines it. Throws InvalidInput with gridProblem's words.
 GridSpec makeGrid(double uMin, double uMax, double vMin, double vMax, double cellMm);
 
 // Linear interpolation of an organised point cloud onto the grid. `planePoints` (CV_64FC3: u, v, h

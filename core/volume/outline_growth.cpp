@@ -85,7 +85,7 @@ OutlineGrowth outlineGrowth(const cv::Mat& baselineGrey, const cv::Mat& currentG
         const cv::Point2d q = moved.at;
         const double depthMm = moved.depthMm;
         cv::Point2d qNormal = planePixelInCurrent(p + normal, plane, toBaseline, k).at - q;
-        if (cv::norm(qNormal) < 1e-6 || depthMm <= 0) continue;
+        if (!(cv::norm(qNormal) >= 1e-6) || !(depthMm > 0)) continue;  // NaN: past the plane
         qNormal *= 1.0 / cv::norm(qNormal);
         const std::optional<double> after = covered(profileAcross(currentGrey, valid, q, qNormal, insidePx, outsidePx, kStepPx));
         if (!after) continue;

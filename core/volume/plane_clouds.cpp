@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include <opencv2/imgproc.hpp>
@@ -85,11 +86,17 @@ cv::Mat outlineInCurrent(const cv::Mat& roi, const PlaneFrame& plane, const Rigi
     const cv::Matx33d k = projection.get_minor<3, 3>(0, 0);
     std::vector<std::vector<cv::Point>> contours;
     cv::findContours(roi.clone(), contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
-    for (auto& contour : contours)
-        for (cv::Point& px : contour) {
+    for (auto& contour : contours) {
+        std::vector<cv::Point> movedContour;
+        for (const cv::Point& px : contour) {
             const cv::Point2d moved = planePixelInCurrent(cv::Point2d(px), plane, toBaseline, k).at;
-            px = {static_cast<int>(std::lround(moved.x)), static_cast<int>(std::lround(moved.y))};
+            // A pixel that looks past the plane (NaN), or lands far outside the frame, has no place
+            // to round to: fillPoly clips what lies beyond the frame's edge anyway.
+            if (!(std::abs(moved.x) < 1e6 && std::abs(moved.y) < 1e6)) continue;
+            movedContour.emplace_back(static_cast<int>(std::lround(moved.x)), static_cast<int>(std::lround(moved.y)));
         }
+        contour = std::move(movedContour);
+    }
     cv::Mat mask = cv::Mat::zeros(roi.size(), CV_8U);
     cv::fillPoly(mask, contours, cv::Scalar(255));
     if (edgeMarginPx > 0) {

@@ -3,10 +3,16 @@
 #include "core/volume/registration.hpp"
 
 #include <algorithm>
+#include <limits>
+#include <optional>
 
 #include "core/volume/height_grid.hpp"
 
 namespace icewatch::volume {
+
+namespace {
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+}  // namespace
 
 double supportSpanPercent(const std::vector<cv::Vec3d>& samples, const std::vector<std::uint8_t>& support,
                           const RigidTransform& transform, const PlaneFrame& plane) {
@@ -45,9 +51,9 @@ double supportSpanPercent(const std::vector<cv::Vec3d>& samples, const std::vect
 
 PixelInCurrent planePixelInCurrent(cv::Point2d baselinePx, const PlaneFrame& plane, const RigidTransform& toBaseline,
                                    const cv::Matx33d& k) {
-    const cv::Vec3d ray = k.inv() * cv::Vec3d(baselinePx.x, baselinePx.y, 1.0);
-    const cv::Vec3d onPlane = (plane.normal.dot(plane.origin) / plane.normal.dot(ray)) * ray;
-    const cv::Vec3d moved = toBaseline.rotation.t() * (onPlane - toBaseline.translation);
+    const std::optional<cv::Vec3d> onPlane = plane.rayHit(k.inv() * cv::Vec3d(baselinePx.x, baselinePx.y, 1.0));
+    if (!onPlane) return {{kNaN, kNaN}, kNaN};  // the pixel looks past the plane: nowhere on it
+    const cv::Vec3d moved = toBaseline.rotation.t() * (*onPlane - toBaseline.translation);
     const cv::Vec3d seen = k * moved;
     return {{seen[0] / seen[2], seen[1] / seen[2]}, moved[2]};
 }

@@ -29,6 +29,7 @@ double supportSpanPercent(const std::vector<cv::Vec3d>& samples, const std::vect
 // A baseline pixel of the object, put on the baseline's plane and moved by the registration
 // (`toBaseline`, current -> baseline) into the current capture: where the camera `k` sees it there,
 // and how far from the camera it is (mm). What a baseline outline becomes in the current capture.
+// NaN, place and depth, for a pixel whose ray meets the plane behind the camera or never.
 struct PixelInCurrent {
     cv::Point2d at;
     double depthMm = 0;

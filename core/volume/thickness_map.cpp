@@ -4,12 +4,12 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <opencv2/imgproc.hpp>
 
-#include "core/common/error.hpp"
 #include "core/volume/beyond_outline.hpp"
 #include "core/volume/robust_statistics.hpp"
 
@@ -18,31 +18,6 @@ namespace icewatch::volume {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-// The grid over the region's outline, each outline pixel's ray met with the plane.
-GridSpec regionGrid(const cv::Mat& roi, const PlaneFrame& plane, const cv::Matx33d& k, double cellMm) {
-    std::vector<std::vector<cv::Point>> contours;
-    cv::findContours(roi.clone(), contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
-    const cv::Matx33d kInv = k.inv();
-    double uMin = 1e18, uMax = -1e18, vMin = 1e18, vMax = -1e18;
-    for (const auto& contour : contours)
-        for (const cv::Point& px : contour) {
-            const cv::Vec3d ray = kInv * cv::Vec3d(px.x, px.y, 1.0);
-            const double t = plane.normal.dot(plane.origin) / plane.normal.dot(ray);
-            // A ray parallel to the plane, or meeting it behind the camera, has no place on it: the
-            // outline reaches past where the plane can be seen (a plane seen nearly edge-on).
-            if (!(t > 0) || !std::isfinite(t)) {
-                throw InvalidInput("grid: the outline's pixel (" + std::to_string(px.x) + ", " +
-                                   std::to_string(px.y) + ") looks past the region's plane");
-            }
-            const cv::Point3d local = plane.toPlane(t * ray);
-            uMin = std::min(uMin, local.x);
-            uMax = std::max(uMax, local.x);
-            vMin = std::min(vMin, local.y);
-            vMax = std::max(vMax, local.y);
-        }
-    return makeGrid(uMin, uMax, vMin, vMax, cellMm);
-}
 
 // Where the baseline saw featureless background (`bare`) and the current capture hides it: the ice
 // tapered from the outline's (taperedIce), into map.thickness, map.beyond and map.tapered.
@@ -97,14 +72,35 @@ void addTaperedIce(ThicknessMap& map, const cv::Mat& rise, const cv::Mat& bare, 
 
 }  // namespace
 
-ThicknessMap thicknessMap(const PlaneClouds& clouds, const cv::Mat& roi, const cv::Mat& ring, const cv::Mat& possibleIce,
-                          const PlaneFrame& plane, const cv::Matx33d& k, const Parameters& p,
-                          const HiddenBackground& hidden, const cv::Mat& seenThrough) {
+OutlineGrid outlineGrid(const cv::Mat& roi, const PlaneFrame& plane, const cv::Matx33d& k, double cellMm) {
+    std::vector<std::vector<cv::Point>> contours;
+    cv::findContours(roi.clone(), contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
+    const cv::Matx33d kInv = k.inv();
+    double uMin = 1e18, uMax = -1e18, vMin = 1e18, vMax = -1e18;
+    for (const auto& contour : contours)
+        for (const cv::Point& px : contour) {
+            const std::optional<cv::Vec3d> hit = plane.rayHit(kInv * cv::Vec3d(px.x, px.y, 1.0));
+            if (!hit) {
+                return {std::nullopt, "the outline's pixel (" + std::to_string(px.x) + ", " + std::to_string(px.y) +
+                                          ") looks past the region's plane"};
+            }
+            const cv::Point3d local = plane.toPlane(*hit);
+            uMin = std::min(uMin, local.x);
+            uMax = std::max(uMax, local.x);
+            vMin = std::min(vMin, local.y);
+            vMax = std::max(vMax, local.y);
+        }
+    if (std::optional<std::string> problem = gridProblem(uMin, uMax, vMin, vMax, cellMm)) return {std::nullopt, *problem};
+    return {makeGrid(uMin, uMax, vMin, vMax, cellMm), {}};
+}
+
+ThicknessMap thicknessMap(const GridSpec& grid, const PlaneClouds& clouds, const cv::Mat& roi, const cv::Mat& ring,
+                          const cv::Mat& possibleIce, const PlaneFrame& plane, const cv::Matx33d& k,
+                          const Parameters& p, const HiddenBackground& hidden, const cv::Mat& seenThrough) {
     CV_Assert(roi.type() == CV_8UC1 && possibleIce.size() == roi.size() && ring.size() == roi.size());
     CV_Assert(seenThrough.empty() || seenThrough.size() == roi.size());
     ThicknessMap map;
-    map.grid = regionGrid(roi | ring, plane, k, p.gridCellMm);
-    const GridSpec& grid = map.grid;
+    map.grid = grid;
     const StepOptions steps{p.occlusionSlope, p.occlusionStepMm};
     const cv::Mat baselineHeight = interpolateLattice(clouds.baseline, grid, steps);
     const cv::Mat currentHeight = interpolateLattice(clouds.current, grid, steps);
@@ -228,9 +224,9 @@ cv::Mat thicknessInImage(const cv::Mat& thickness, const GridSpec& grid, const P
         for (int x = 0; x < outline.cols; ++x) {
             if (!outline.at<std::uint8_t>(y, x)) continue;
             const cv::Vec3d ray = toBaseline.rotation * (kInv * cv::Vec3d(x, y, 1.0));
-            const double along = plane.normal.dot(ray);
-            if (std::abs(along) < 1e-12) continue;
-            const cv::Point3d local = plane.toPlane(centre + (plane.normal.dot(plane.origin - centre) / along) * ray);
+            const std::optional<cv::Vec3d> hit = plane.rayHit(ray, centre);
+            if (!hit) continue;
+            const cv::Point3d local = plane.toPlane(*hit);
             const int i = static_cast<int>(std::lround((local.x - grid.u0) / grid.du));
             const int j = static_cast<int>(std::lround((local.y - grid.v0) / grid.dv));
             if (i >= 0 && j >= 0 && i < grid.nu && j < grid.nv) {

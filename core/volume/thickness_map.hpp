@@ -1,5 +1,8 @@
 #pragma once
 
+#include <optional>
+#include <string>
+
 #include <opencv2/core.hpp>
 
 #include "core/volume/height_grid.hpp"
@@ -36,12 +39,23 @@ struct ThicknessMap {
     int filledNodes = 0;     // ice nodes without a measurement, filled from the nearest
 };
 
-// Grids the region (its outline put on the plane through the rays of its pixels), interpolates
-// both clouds linearly onto it (height_grid.hpp) and differences them where `possibleIce` (per
-// left baseline pixel) says ice may be; the surface that unchanged texture vouched for is clean,
-// 0, so neither its noise nor the registration's error there is integrated. A node is placed in
-// the image at the baseline's height above the plane (the plane alone would misplace nodes by the
-// blade's camber). `k`: the rectified left camera matrix.
+// The grid over the region: the outline of `roi` (its outer contours) put on the plane through
+// the rays of its pixels, so that the grid holds all the region shows of the plane. No grid when
+// the outline has no measurable extent on the plane: a pixel whose ray meets it behind the camera
+// or never, or a grid of too many nodes (a plane seen nearly edge-on). The scene is not malformed
+// then, the outline is: `problem` says which pixel or how many nodes, for the refusal.
+struct OutlineGrid {
+    std::optional<GridSpec> grid;
+    std::string problem;
+};
+OutlineGrid outlineGrid(const cv::Mat& roi, const PlaneFrame& plane, const cv::Matx33d& k, double cellMm);
+
+// On `grid` (outlineGrid of the region and its ring), interpolates both clouds linearly
+// (height_grid.hpp) and differences them where `possibleIce` (per left baseline pixel) says ice
+// may be; the surface that unchanged texture vouched for is clean, 0, so neither its noise nor the
+// registration's error there is integrated. A node is placed in the image at the baseline's
+// height above the plane (the plane alone would misplace nodes by the blade's camber). `k`: the
+// rectified left camera matrix.
 //
 // Beyond the outline, in `ring` (per left baseline pixel, around `roi`), the current surface is
 // measured from what the baseline saw there (a table, more of a plate than the outline drawn on
@@ -52,12 +66,10 @@ struct ThicknessMap {
 // silhouette.hpp), the ice is tapered from the outline's (taperedIce) rather than measured from a
 // footing nobody saw. `seenThrough` (per left baseline pixel, may be empty) marks the ice nodes
 // where the object's texture was seen through the ice.
-//
-// Throws InvalidInput when the outline has no measurable extent on the plane: a pixel whose ray
-// meets it behind the camera or never, or a grid of too many nodes (a plane seen nearly edge-on).
-ThicknessMap thicknessMap(const PlaneClouds& clouds, const cv::Mat& roi, const cv::Mat& ring, const cv::Mat& possibleIce,
-                          const PlaneFrame& plane, const cv::Matx33d& k, const Parameters& parameters,
-                          const HiddenBackground& hidden = {}, const cv::Mat& seenThrough = {});
+ThicknessMap thicknessMap(const GridSpec& grid, const PlaneClouds& clouds, const cv::Mat& roi, const cv::Mat& ring,
+                          const cv::Mat& possibleIce, const PlaneFrame& plane, const cv::Matx33d& k,
+                          const Parameters& parameters, const HiddenBackground& hidden = {},
+                          const cv::Mat& seenThrough = {});
 
 // For people: a grid map (NaN where none) where it lies in the current left image, inside
 // `outline`. Each pixel's ray, moved into the baseline's frame, meets the baseline's plane at the

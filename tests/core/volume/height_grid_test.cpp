@@ -3,11 +3,13 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <string>
 
 #include <gtest/gtest.h>
 
 #include "core/common/error.hpp"
+#include "tests/core/volume/test_planes.hpp"
 
 namespace icewatch::volume {
 namespace {
@@ -73,6 +75,35 @@ TEST(HeightGrid, AGridOfKilometresOrOfNoFiniteExtentIsAnErrorNamingItsSize) {
     const GridSpec fine = makeGrid(0, 10, 0, 4, 0.5);
     EXPECT_EQ(fine.nu, 21);
     EXPECT_EQ(fine.nv, 9);
+}
+
+TEST(PlaneFrame, ARayMeetsThePlaneInFrontOfItsStartOrNowhere) {
+    const PlaneFrame ground = test::groundBelowCamera();
+    // Looking down 45 degrees: the ground 100 mm ahead.
+    const std::optional<cv::Vec3d> ahead = ground.rayHit({0, 1, 1});
+    ASSERT_TRUE(ahead);
+    EXPECT_NEAR(cv::norm(*ahead - cv::Vec3d(0, 100, 100)), 0.0, 1e-9);
+    // From a point 40 mm above the ground, straight down.
+    const std::optional<cv::Vec3d> below = ground.rayHit({0, 1, 0}, {5, 60, 700});
+    ASSERT_TRUE(below);
+    EXPECT_NEAR(cv::norm(*below - cv::Vec3d(5, 100, 700)), 0.0, 1e-9);
+    EXPECT_FALSE(ground.rayHit({0, 0, 1}));   // along the horizon: never
+    EXPECT_FALSE(ground.rayHit({0, -1, 1}));  // above it: the plane is behind
+}
+
+TEST(HeightGrid, TheReasonForNoGridIsGivenInWordsAndMakeGridThrowsIt) {
+    EXPECT_FALSE(gridProblem(0, 10, 0, 4, 0.5));
+    const std::optional<std::string> huge = gridProblem(0, 4.8e6, 0, 7.7e5, 1.0);
+    ASSERT_TRUE(huge);
+    EXPECT_NE(huge->find("4800001 x 770001 nodes is too many"), std::string::npos) << *huge;
+    ASSERT_TRUE(gridProblem(0, 10, 0, 10, 0.0));
+    EXPECT_NE(gridProblem(0, 10, 0, 10, 0.0)->find("positive size"), std::string::npos);
+    try {
+        makeGrid(0, 10, 0, 10, -1.0);
+        FAIL() << "a grid with a negative cell was built";
+    } catch (const InvalidInput& e) {
+        EXPECT_EQ(std::string(e.what()), *gridProblem(0, 10, 0, 10, -1.0));
+    }
 }
 
 TEST(HeightGrid, LinearInterpolationIsExactOnAPlaneAndLeavesHolesOpen) {

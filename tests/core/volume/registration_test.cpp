@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/core/volume/test_planes.hpp"
+
 namespace icewatch::volume {
 namespace {
 
@@ -63,6 +65,17 @@ TEST(Registration, SupportSpanFollowsTheTransform) {
     EXPECT_DOUBLE_EQ(supportSpanPercent(samples, root, moved, cameraPlane()),
                      supportSpanPercent(samples, root, RigidTransform{}, cameraPlane()));
     EXPECT_EQ(supportSpanPercent({}, {}, RigidTransform{}, cameraPlane()), 0.0);
+}
+
+TEST(Registration, APixelLookingPastThePlaneHasNoPlaceInTheCurrentCapture) {
+    const PlaneFrame ground = test::groundBelowCamera();
+    const RigidTransform identity;
+    const PixelInCurrent below = planePixelInCurrent({300, 340}, ground, identity, test::kCamera);
+    EXPECT_NEAR(below.at.x, 300.0, 1e-9);
+    EXPECT_NEAR(below.at.y, 340.0, 1e-9);
+    EXPECT_NEAR(below.depthMm, 1000.0, 1e-9);  // 100 mm down at 0.1 mm per mm ahead
+    const PixelInCurrent above = planePixelInCurrent({300, 140}, ground, identity, test::kCamera);
+    EXPECT_TRUE(std::isnan(above.at.x) && std::isnan(above.at.y) && std::isnan(above.depthMm));
 }
 
 }  // namespace
