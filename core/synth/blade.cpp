@@ -21,6 +21,9 @@
 //   shed          what is left after part of the ice shed: a few sheets of one thickness anywhere
 //                 on the blade, broken off along jagged lines, so that each ends in a sharp step
 //                 of its full thickness (the rime patches end in slopes tens of mm long).
+//   icicles       icicles hanging out of the trailing edge (icicleFront), far beyond the outline,
+//                 over a runback band along the edge they grew from: the ice that matters lies
+//                 where no surface was before, against the background.
 #include "core/synth/blade.hpp"
 
 #include <algorithm>
@@ -101,6 +104,30 @@ std::vector<Ridge> drawRidges(std::uint32_t seed) {
     return ridges;
 }
 
+// An icicle: where it hangs along the span (0 root .. 1 tip), its root's radius and its length for
+// a size of 1 mm.
+struct Icicle {
+    double spanPos, rootRadius, length;
+};
+
+std::vector<Icicle> drawIcicles(std::uint32_t seed) {
+    std::mt19937 random(seed ^ 0x49636963u);
+    auto uniform = [&random](double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(random); };
+    std::vector<Icicle> icicles(static_cast<std::size_t>(5 + random() % 6));
+    for (Icicle& i : icicles) i = {uniform(0.25, 0.95), uniform(0.4, 0.8), uniform(3.0, 7.0)};
+    return icicles;
+}
+
+// How much of the trailing edge the icicles hang from (the runback band's extent along the span).
+double icicleSpan(const std::vector<Icicle>& icicles, double spanPos) {
+    double lo = 1.0, hi = 0.0;
+    for (const Icicle& i : icicles) {
+        lo = std::min(lo, i.spanPos);
+        hi = std::max(hi, i.spanPos);
+    }
+    return smoothstep(lo - 0.08, lo - 0.02, spanPos) * (1.0 - smoothstep(hi + 0.02, hi + 0.08, spanPos));
+}
+
 std::vector<Patch> drawPatches(std::uint32_t seed) {
     std::mt19937 random(seed ^ 0x50617463u);
     auto uniform = [&random](double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(random); };
@@ -121,6 +148,7 @@ public:
         if (kind == IceKind::Patches) patches_ = drawPatches(seed);
         if (kind == IceKind::Ridges) ridges_ = drawRidges(seed);
         if (kind == IceKind::Shed) patches_ = drawPatches(seed ^ 0x53686564u);
+        if (kind == IceKind::Icicles) icicles_ = drawIcicles(seed);
     }
 
     // chordMm: the local chord, so that the bead keeps its width in millimetres.
@@ -173,6 +201,10 @@ public:
                 }
                 return thickness;
             }
+            case IceKind::Icicles:
+                // The runback band the icicles grew from, in mm as theirs: over the chord's last
+                // sixth, thickest on the edge, where the icicles' roots stand on it.
+                return 0.3 * sizeMm_ * smoothstep(0.83, 0.97, c) * icicleSpan(icicles_, spanPos);
         }
         return 0.0;
     }
@@ -186,6 +218,7 @@ private:
     Bead bead_;
     std::vector<Patch> patches_;
     std::vector<Ridge> ridges_;
+    std::vector<Icicle> icicles_;
 };
 
 double chordAt(double spanPos) { return kRootChordMm + (kTipChordMm - kRootChordMm) * spanPos; }
@@ -235,6 +268,36 @@ GridSurface beadFront(IceKind ice, std::uint32_t seed, double beadOverMm) {
             s.local[s.index(i, j)] = {x, leadingEdgeY - t * bead.frontMm, 0.0};
             s.ice[s.index(i, j)] =
                 static_cast<float>(bead.heightMm * beadAlongSpan(spanPos, x, leadingEdgeY, seed) * beadProfile(t));
+        }
+    }
+    return s;
+}
+
+GridSurface icicleFront(std::uint32_t seed, double sizeMm) {
+    const std::vector<Icicle> icicles = drawIcicles(seed);
+    double longestMm = 0.0;
+    for (const Icicle& i : icicles) longestMm = std::max(longestMm, i.length * sizeMm);
+    GridSurface s;
+    s.nu = 1640;  // half a millimetre along the span: an icicle's tip is narrow
+    s.nv = 96;
+    s.local.resize(static_cast<std::size_t>(s.nu + 1) * (s.nv + 1));
+    s.ice.resize(s.local.size());
+    for (int j = 0; j <= s.nv; ++j) {
+        const double outMm = longestMm * j / s.nv;  // 0 on the trailing edge .. the longest icicle's tip
+        for (int i = 0; i <= s.nu; ++i) {
+            const double spanPos = static_cast<double>(i) / s.nu;
+            const double x = (spanPos - 0.5) * kBladeLengthMm;
+            s.local[s.index(i, j)] = {x, (1.0 - kPitchAxisChord) * chordAt(spanPos) + outMm, 0.0};
+            double thickness = 0.0;
+            for (const Icicle& icicle : icicles) {
+                const double lengthMm = icicle.length * sizeMm;
+                if (outMm >= lengthMm) continue;
+                // A half-cone: its radius tapers from the root to the tip, its section a half-round.
+                const double radiusMm = icicle.rootRadius * sizeMm * (1.0 - outMm / lengthMm);
+                const double acrossMm = x - (icicle.spanPos - 0.5) * kBladeLengthMm;
+                thickness = std::max(thickness, std::sqrt(std::max(0.0, radiusMm * radiusMm - acrossMm * acrossMm)));
+            }
+            s.ice[s.index(i, j)] = static_cast<float>(thickness);
         }
     }
     return s;

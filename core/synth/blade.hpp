@@ -15,13 +15,20 @@ constexpr double kBeadReferenceMm = 10.0;
 // the chord, leading edge at -y, h the suction side's height above the flat pressure side), with
 // the ice of the given kind for amplitude 1 (its volume is scaled afterwards). A bead's ice is in
 // mm already, for a bead reaching beadOverMm over the suction side, as high as the seed's
-// proportions make it; so are the ridges', beadOverMm their size.
+// proportions make it; so are the ridges' and the icicles' runback band, beadOverMm their size.
 GridSurface bladeSurface(IceKind ice, std::uint32_t seed, double beadOverMm = kBeadReferenceMm);
 
 // The part of a bead ice kind that stands in front of the leading edge: a grid over the chord
 // plane from the leading edge forwards, all of it ice (its clean surface is nothing, so it is
 // rendered iced only). Empty (nu = 0) for the other kinds. Its ice is scaled with the blade's.
 GridSurface beadFront(IceKind ice, std::uint32_t seed, double beadOverMm = kBeadReferenceMm);
+
+// Icicles hanging out of the trailing edge: a grid over the chord plane from the trailing edge
+// outwards, ice only where an icicle hangs (each a half-cone towards the camera, its root as
+// thick as it is half-wide, tapering to its tip), in mm for an icicle size of sizeMm: roots of
+// 0.4 to 0.8 times the size in radius, lengths 3 to 7 times it, so that much ice hangs far beyond
+// the ring the chain watches around the outline. Their places and proportions by the seed.
+GridSurface icicleFront(std::uint32_t seed, double sizeMm = kBeadReferenceMm);
 
 // The glaze that wraps one edge of an iced blade (leading or trailing), out of its outline: for
 // each span station of `blade` (its ice already scaled), a half-round of ice on the chord plane as

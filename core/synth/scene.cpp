@@ -71,7 +71,7 @@ Mesh withoutBareTriangles(Mesh mesh) {
 Geometry bladeGeometry(const SceneSpec& spec, const Pose& before, const Pose& after, const Look& look,
                        const Look& afterLook) {
     GridSurface surface = bladeSurface(spec.ice, spec.seed);
-    GridSurface front = beadFront(spec.ice, spec.seed);  // empty but for a bead
+    GridSurface front = beadFront(spec.ice, spec.seed);  // empty but for a bead (and icicles, below)
     if (front.nu > 0) {
         // A bead's cross-section grows with the square of its reach: the reach that carries the
         // requested volume over what the glaze under it holds, so that a bead stays as high as it
@@ -85,6 +85,18 @@ Geometry bladeGeometry(const SceneSpec& spec, const Pose& before, const Pose& af
     if (spec.ice == IceKind::Ridges) {
         // Ridges keep their proportions too: their cross-section grows with the square of their size.
         const double sizeMm = kBeadReferenceMm * std::sqrt(spec.iceVolumeMm3 / iceVolumeMm3(surface));
+        surface = bladeSurface(spec.ice, spec.seed, sizeMm);
+    }
+    if (spec.ice == IceKind::Icicles) {
+        // Icicles keep their proportions: their volume grows with the cube of their size (the
+        // runback band under them with its square, so the size is found twice).
+        double sizeMm = kBeadReferenceMm;
+        for (int pass = 0; pass < 2; ++pass) {
+            front = icicleFront(spec.seed, sizeMm);
+            surface = bladeSurface(spec.ice, spec.seed, sizeMm);
+            sizeMm *= std::cbrt(spec.iceVolumeMm3 / (iceVolumeMm3(surface) + iceVolumeMm3(front)));
+        }
+        front = icicleFront(spec.seed, sizeMm);
         surface = bladeSurface(spec.ice, spec.seed, sizeMm);
     }
     double scale = spec.iceVolumeMm3 / (iceVolumeMm3(surface) + iceVolumeMm3(front));
@@ -250,7 +262,7 @@ constexpr std::pair<SceneKind, const char*> kSceneNames[] = {{SceneKind::Blade, 
 constexpr std::pair<IceKind, const char*> kIceNames[] = {
     {IceKind::LeadingEdge, "leading-edge"}, {IceKind::GlazeAll, "glaze-all"}, {IceKind::Patches, "patches"},
     {IceKind::Bead, "bead"}, {IceKind::BeadGlaze, "bead-glaze"}, {IceKind::Ridges, "ridges"},
-    {IceKind::Shed, "shed"}};
+    {IceKind::Shed, "shed"}, {IceKind::Icicles, "icicles"}};
 constexpr std::pair<MotionKind, const char*> kMotionNames[] = {{MotionKind::None, "none"}, {MotionKind::Small, "small"},
                                                               {MotionKind::Large, "large"}};
 constexpr std::pair<Background, const char*> kBackgroundNames[] = {{Background::Sky, "sky"},

@@ -28,6 +28,8 @@ enum class IceKind {
     BeadGlaze,    // the same bead over a thin glaze across the whole visible surface
     Ridges,       // a few narrow, steep ridges along the span behind the leading edge (runback ice)
     Shed,         // sheets of one thickness left after part of the ice shed, each ending in a sharp step
+    Icicles,      // icicles hanging out of the trailing edge, far beyond the outline, over a runback
+                  // band along it
 };
 
 // How the object moved between the captures.

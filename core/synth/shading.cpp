@@ -50,7 +50,8 @@ float icedComposite(const Shading& s, float albedo, const VertexAttributes& a) {
         case IceKind::Bead:
         case IceKind::BeadGlaze:
         case IceKind::Ridges:
-        case IceKind::Shed: {
+        case IceKind::Shed:
+        case IceKind::Icicles: {
             // White, translucent where thin, with its own faint texture.
             const float opacity = 1.0f - std::exp(-thickness / translucencyMm);
             const float ice = whiteness + 0.03f * fractalNoise(a[0], a[1], 3.0, 3, s.seed + 100);

@@ -125,9 +125,10 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
                     "the blade's ice: leading-edge (a horn along the leading edge), glaze-all (a thin translucent "
                     "layer over the whole blade), patches (opaque rime patches anywhere), bead (a narrow bead on the leading "
                     "edge, standing out of the outline), bead-glaze (the bead over a thin glaze), ridges (a few narrow, "
-                    "steep ridges of runback ice along the span) or shed (sheets of one thickness left after part of the ice "
-                    "shed, each ending in a sharp step)")
-        ->check(CLI::IsMember({"leading-edge", "glaze-all", "patches", "bead", "bead-glaze", "ridges", "shed"}));
+                    "steep ridges of runback ice along the span), shed (sheets of one thickness left after part of the ice "
+                    "shed, each ending in a sharp step) or icicles (icicles hanging out of the trailing edge, far beyond "
+                    "the outline, over a runback band along it)")
+        ->check(CLI::IsMember({"leading-edge", "glaze-all", "patches", "bead", "bead-glaze", "ridges", "shed", "icicles"}));
     cmd->add_option("--motion", o->motion,
                     "the object's motion between the captures: none, small (up to 3 mm, 0.3°) or large (up to 15 mm, "
                     "1.5°: parked at another pitch, bent by another wind)")

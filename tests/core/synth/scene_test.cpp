@@ -125,6 +125,33 @@ TEST(SynthScene, AGlazeOverTheEdgesStandsOutOfTheOutlineOnBothSides) {
     EXPECT_THROW(renderScene(spec), InvalidInput);
 }
 
+TEST(SynthScene, IciclesHangOutOfTheTrailingEdgeFartherThanTheChainsRing) {
+    SceneSpec spec;
+    spec.iceVolumeMm3 = 197717;
+    spec.ice = IceKind::Icicles;
+    spec.motion = MotionKind::None;
+    spec.frameSize = {1280, 360};
+    spec.supersampling = 2;
+    spec.noiseSigma = 0;
+    const SyntheticScene scene = renderScene(spec);
+    EXPECT_NEAR(scene.iceVolumeMm3, 197717, 1e-6 * 197717);
+    std::vector<cv::Point> polygon;
+    for (const cv::Point2d& p : scene.roi) polygon.emplace_back(cvRound(p.x), cvRound(p.y));
+    cv::Mat outside(scene.afterIceMm.size(), CV_8U, cv::Scalar(255));
+    cv::fillPoly(outside, std::vector<std::vector<cv::Point>>{polygon}, cv::Scalar(0));
+    // How far each pixel lies from the outline, and the farthest that shows ice.
+    cv::Mat distancePx;
+    cv::distanceTransform(outside, distancePx, cv::DIST_L2, 3);
+    double farthestPx = 0;
+    cv::minMaxLoc(distancePx, nullptr, &farthestPx, nullptr, nullptr, (scene.afterIceMm > 0.2f) & outside);
+    const double pixelMm = spec.distanceMm / scene.calibration.rectifiedFocalPx();
+    EXPECT_GT(farthestPx * pixelMm, 60.0);  // past volume.outline_growth_mm's 50 mm
+    // All of it below the blade: the trailing edge's side, the leading edge's clean.
+    const cv::Rect box = cv::boundingRect(polygon);
+    const cv::Mat above = (scene.afterIceMm > 0.2f) & outside;
+    EXPECT_EQ(cv::countNonZero(above(cv::Rect(0, 0, above.cols, box.y))), 0);
+}
+
 // A textured pair with a known whole-pixel shift and independent noise in each eye.
 struct ShiftedPair {
     cv::Mat left, right, disparity;
