@@ -35,6 +35,12 @@ struct ThicknessMap {
     // that stands off its background (outline_standoff_mm), ice is measured from halfway down to
     // the background, and half that band is its hidden part.
     cv::Mat hiddenMm;
+    // CV_8U per node: the ring's outer edge, its last pixels away from the outline (kRingEdgePx).
+    // Ice beyond the outline found there reaches as far as the chain looks, and may reach farther
+    // (icicles hanging from an edge): beyondAtRingEdgeNodes counts its nodes, those seen by the
+    // background they hide or rising twice the least that counts as ice.
+    cv::Mat ringEdge;
+    int beyondAtRingEdgeNodes = 0;
     int insideNodes = 0, iceNodes = 0, beyondNodes = 0, taperedNodes = 0;
     int filledNodes = 0;     // ice nodes without a measurement, filled from the nearest
 };

@@ -294,6 +294,22 @@ TEST(VolumeChain, ABeadStandingOutOfTheOutlineIsMeasuredInFull) {
     EXPECT_GT(r.budget.outlineMm3, 0.0);
 }
 
+// Icicles hanging out of the trailing edge, longer than the ring the chain watches around the
+// outline (outline_growth_mm, 50 mm): cut there, they read -59 to -71 % and `ok` outside their
+// uncertainty (16 frames). Ice that reaches the ring's edge may reach farther, where nothing is
+// measured: refused, with the reason.
+TEST(VolumeChain, IciclesHangingPastTheRingAreRefusedNotCutOff) {
+    synth::SceneSpec spec = smallBladeSpec();
+    spec.ice = synth::IceKind::Icicles;
+    spec.iceVolumeMm3 = 97609;
+    spec.motion = synth::MotionKind::Small;
+    const AveragedBlade b = measureAveragedBlade(spec, stereo::Method::Paper);
+    const VolumeResult& r = b.result;
+    EXPECT_FALSE(r.ok) << "measured " << r.volumeMm3 << " ± " << r.uncertaintyMm3 << " truth " << b.scene.iceVolumeMm3;
+    EXPECT_NE(r.reason.find("as far as the ring watched around it reaches"), std::string::npos) << r.reason;
+    EXPECT_NE(r.reason.find("50 mm out"), std::string::npos) << r.reason;
+}
+
 // A large bead against the sky through a worse camera (JPEG quality 75), the blade unmoved: the
 // matcher read the outline against the bead now and against the featureless sky before, and the
 // ice within its pull of the outline, and the ice tapered from there in front of it, came out a
