@@ -187,6 +187,21 @@ std::optional<std::string> outlineObliquityProblem(const ThicknessMap& map, cons
     return reason.str();
 }
 
+// Ice beyond the outline that reaches the ring's outer edge may reach farther, where nothing is
+// measured. Icicles hanging from a rendered trailing edge, 60-200 mm long, read -59 to -71 % and
+// `ok` outside their uncertainty while the ring cut them at 50 mm: no uncertainty can speak for
+// what lies past it. A wider ring is no cure: at 200 mm the same icicles against the sky read -52
+// and -58 %, one outside its uncertainty (narrow ice against a featureless background is read
+// low, as a bead's is), so the reason names no setting to change.
+std::optional<std::string> ringEdgeProblem(const ThicknessMap& map, const Parameters& p) {
+    if (map.beyondAtRingEdgeNodes == 0) return std::nullopt;
+    std::ostringstream reason;
+    reason << "ice stands out of the outline as far as the ring watched around it reaches (" << map.beyondAtRingEdgeNodes
+           << " nodes at its edge, " << p.outlineGrowthMm
+           << " mm out): it may reach farther, where nothing is measured (icicles hanging from an edge, a long horn)";
+    return reason.str();
+}
+
 }  // namespace
 
 struct VolumeChain::Impl {
@@ -757,19 +772,7 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
         thicknessMap(*region.grid, clouds, baseline.roi, model->ringMask, possibleIce, plane, k, p, hidden,
                      seenThroughPixels(baseline.roi, tracks, p.trackStepPx, motion.objectLightShifted));
     if (map.insideNodes == 0) return refused(result, "the region covers no part of the measured surface");
-    if (map.beyondAtRingEdgeNodes > 0) {
-        // Icicles hanging from a rendered trailing edge, 60-200 mm long, read -59 to -71 % and `ok`
-        // outside their uncertainty while the ring cut them at 50 mm: what lies past the ring is
-        // measured nowhere, so no uncertainty can speak for it. A wider ring is no cure: at 200 mm
-        // the same icicles against the sky read -52 to -58 %, one outside its uncertainty (narrow
-        // ice against a featureless background is read low, as a bead's is).
-        std::ostringstream reason;
-        reason << "ice stands out of the outline as far as the ring watched around it reaches ("
-               << map.beyondAtRingEdgeNodes << " nodes at its edge, " << p.outlineGrowthMm
-               << " mm out): it may reach farther, where nothing is measured (icicles hanging from an edge, a long "
-                  "horn)";
-        return refused(result, reason.str());
-    }
+    if (const std::optional<std::string> problem = ringEdgeProblem(map, p)) return refused(result, *problem);
     result.filledPercent = 100.0 * map.filledNodes / std::max(1, map.iceNodes);
     timer.lap("grid");
     if (result.filledPercent > p.maxFilledPercent) {
