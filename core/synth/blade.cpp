@@ -273,8 +273,9 @@ GridSurface beadFront(IceKind ice, std::uint32_t seed, double beadOverMm) {
     return s;
 }
 
-GridSurface icicleFront(std::uint32_t seed, double sizeMm) {
-    const std::vector<Icicle> icicles = drawIcicles(seed);
+GridSurface icicleFront(std::uint32_t seed, double sizeMm, double lengthScale) {
+    std::vector<Icicle> icicles = drawIcicles(seed);
+    for (Icicle& i : icicles) i.length *= lengthScale;
     double longestMm = 0.0;
     for (const Icicle& i : icicles) longestMm = std::max(longestMm, i.length * sizeMm);
     GridSurface s;

@@ -26,9 +26,11 @@ GridSurface beadFront(IceKind ice, std::uint32_t seed, double beadOverMm = kBead
 // Icicles hanging out of the trailing edge: a grid over the chord plane from the trailing edge
 // outwards, ice only where an icicle hangs (each a half-cone towards the camera, its root as
 // thick as it is half-wide, tapering to its tip), in mm for an icicle size of sizeMm: roots of
-// 0.4 to 0.8 times the size in radius, lengths 3 to 7 times it, so that much ice hangs far beyond
-// the ring the chain watches around the outline. Their places and proportions by the seed.
-GridSurface icicleFront(std::uint32_t seed, double sizeMm = kBeadReferenceMm);
+// 0.4 to 0.8 times the size in radius, lengths 3 to 7 times it (times lengthScale), so that much
+// ice hangs far beyond the ring the chain watches around the outline; at a lengthScale of 0.25
+// they are stubby, 0.75 to 1.75 times as long as their size, and a large volume stays within
+// it. Their places and proportions by the seed.
+GridSurface icicleFront(std::uint32_t seed, double sizeMm = kBeadReferenceMm, double lengthScale = 1.0);
 
 // The glaze that wraps one edge of an iced blade (leading or trailing), out of its outline: for
 // each span station of `blade` (its ice already scaled), a half-round of ice on the chord plane as

@@ -92,11 +92,11 @@ Geometry bladeGeometry(const SceneSpec& spec, const Pose& before, const Pose& af
         // runback band under them with its square, so the size is found twice).
         double sizeMm = kBeadReferenceMm;
         for (int pass = 0; pass < 2; ++pass) {
-            front = icicleFront(spec.seed, sizeMm);
+            front = icicleFront(spec.seed, sizeMm, spec.icicleLength);
             surface = bladeSurface(spec.ice, spec.seed, sizeMm);
             sizeMm *= std::cbrt(spec.iceVolumeMm3 / (iceVolumeMm3(surface) + iceVolumeMm3(front)));
         }
-        front = icicleFront(spec.seed, sizeMm);
+        front = icicleFront(spec.seed, sizeMm, spec.icicleLength);
         surface = bladeSurface(spec.ice, spec.seed, sizeMm);
     }
     double scale = spec.iceVolumeMm3 / (iceVolumeMm3(surface) + iceVolumeMm3(front));
@@ -224,6 +224,12 @@ void checkSpec(const SceneSpec& spec) {
     }
     if (spec.iceOverEdges && (spec.kind != SceneKind::Blade || spec.ice != IceKind::GlazeAll)) {
         throw InvalidInput("synthetic scene: ice over the edges is a glaze-all blade's (the other kinds end where they end)");
+    }
+    if (!(spec.icicleLength >= kMinIcicleLength && spec.icicleLength <= kMaxIcicleLength)) {
+        throw InvalidInput("synthetic scene: the icicles' length scale must be between 0.1 and 2");
+    }
+    if (spec.icicleLength != 1.0 && (spec.kind != SceneKind::Blade || spec.ice != IceKind::Icicles)) {
+        throw InvalidInput("synthetic scene: the icicles' length is an icicled blade's (--ice icicles)");
     }
     if (spec.kind == SceneKind::Block && spec.ice != IceKind::LeadingEdge) {
         throw InvalidInput("synthetic scene: the ice kind is the blade's; a block scene's ice is the block");

@@ -88,6 +88,8 @@ inline constexpr double kMaxCloudDrift = 0.5;
 inline constexpr double kMaxGloss = 1.0;
 inline constexpr double kMaxTiltDeg = 45.0;
 inline constexpr double kMaxTableGapMm = 100.0;
+inline constexpr double kMinIcicleLength = 0.1;
+inline constexpr double kMaxIcicleLength = 2.0;
 inline constexpr double kMaxBlurPx = 5.0;
 // The look's overrides (SceneSpec): what another renderer, or another blade, may show.
 inline constexpr double kMinTextureContrast = 0.005, kMaxTextureContrast = 0.3;
@@ -150,6 +152,9 @@ struct SceneSpec {
     // clear ice along each edge, what lies behind it showing through). Off: a height field over the
     // planform that ends at the outline.
     bool iceOverEdges = false;
+    // Icicles' lengths times this (icicleFront): 1 hangs them 3-7 times their size, far beyond the
+    // ring the chain watches; 0.25 makes them stubby, holding as much ice within a few tens of mm.
+    double icicleLength = 1.0;
     // The look the seed draws (look.hpp), overridden where set (0: the seed's): the composite's
     // texture amplitude (the seed's 0.027-0.05) and the size of its coarsest features (4.5-8.5 mm),
     // and the albedo of ice thick enough to hide what is under it (0.82-0.93).

@@ -65,6 +65,7 @@ nlohmann::json truthJson(const SyntheticScene& scene, const SceneSpec& spec) {
             {"shadows", spec.shadows},
             {"table_gap_mm", spec.tableGapMm},
             {"ice_over_edges", spec.iceOverEdges},
+            {"icicle_length", spec.icicleLength},
             {"motion_rotation_deg", vec3(scene.motion.rotationDeg)},
             {"motion_translation_mm", vec3(scene.motion.translationMm)},
             {"motion_pivot_mm", vec3(scene.motion.pivotMm)},

@@ -99,6 +99,7 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
         bool shadows = false;
         double tableGapMm = 0.0;
         bool iceOverEdges = false;
+        double icicleLength = 1.0;
         double blurPx = 0.0;
         std::string toneCurve = "linear";
         double sunChange = 1.0;
@@ -188,6 +189,10 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
     cmd->add_flag("--ice-over-edges", o->iceOverEdges,
                   "glaze-all grown along the surface's normals, as ice forms: it wraps the leading and trailing "
                   "edges and stands out of the outline by its thickness there, clear, what lies behind showing through");
+    cmd->add_option("--icicle-length", o->icicleLength,
+                    "icicles' lengths times this, 0.1..2 (1: 3 to 7 times their size, far beyond the ring the chain "
+                    "watches around the outline; 0.25: stubby, as much ice within a few tens of mm)")
+        ->check(CLI::Range(synth::kMinIcicleLength, synth::kMaxIcicleLength));
     cmd->add_option("--blur-px", o->blurPx,
                     "the lens's blur: a Gaussian of this sigma on each eye, 0..5 px (0: as sharp as the pixels; a "
                     "renderer's pixel filter is about 0.5, a cheap lens 1 or more)")
@@ -225,6 +230,10 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
                 throw Error(kExitUsage, "--ice-over-edges: only a glaze-all blade's ice is grown over its edges (--ice " +
                                             o->ice + ", --scene " + o->scene + ")");
             }
+            if (o->icicleLength != 1.0 && (o->scene != "blade" || o->ice != "icicles")) {
+                throw Error(kExitUsage, "--icicle-length: only icicles have a length (--ice " + o->ice + ", --scene " +
+                                            o->scene + ")");
+            }
             checkOutputDirectory(o->out, o->force, "--out");
             synth::SceneSpec spec;
             spec.kind = synth::parseSceneKind(o->scene);
@@ -251,6 +260,7 @@ void addSynthCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunction
             spec.shadows = o->shadows;
             spec.tableGapMm = o->tableGapMm;
             spec.iceOverEdges = o->iceOverEdges;
+            spec.icicleLength = o->icicleLength;
             spec.blurPx = o->blurPx;
             spec.toneCurve = synth::parseToneCurve(o->toneCurve);
             spec.sunChange = o->sunChange;

@@ -125,16 +125,14 @@ TEST(SynthScene, AGlazeOverTheEdgesStandsOutOfTheOutlineOnBothSides) {
     EXPECT_THROW(renderScene(spec), InvalidInput);
 }
 
-TEST(SynthScene, IciclesHangOutOfTheTrailingEdgeFartherThanTheChainsRing) {
-    SceneSpec spec;
-    spec.iceVolumeMm3 = 197717;
-    spec.ice = IceKind::Icicles;
-    spec.motion = MotionKind::None;
-    spec.frameSize = {1280, 360};
-    spec.supersampling = 2;
-    spec.noiseSigma = 0;
-    const SyntheticScene scene = renderScene(spec);
-    EXPECT_NEAR(scene.iceVolumeMm3, 197717, 1e-6 * 197717);
+// How far (mm, on the object's plane at its distance) ice reaches out of the scene's outline, and
+// whether any of it lies above the blade (the leading edge's side).
+struct IceOutOfOutline {
+    double farthestMm = 0;
+    int aboveBladePixels = 0;
+};
+
+IceOutOfOutline iceOutOfOutline(const SceneSpec& spec, const SyntheticScene& scene) {
     std::vector<cv::Point> polygon;
     for (const cv::Point2d& p : scene.roi) polygon.emplace_back(cvRound(p.x), cvRound(p.y));
     cv::Mat outside(scene.afterIceMm.size(), CV_8U, cv::Scalar(255));
@@ -143,13 +141,49 @@ TEST(SynthScene, IciclesHangOutOfTheTrailingEdgeFartherThanTheChainsRing) {
     cv::Mat distancePx;
     cv::distanceTransform(outside, distancePx, cv::DIST_L2, 3);
     double farthestPx = 0;
-    cv::minMaxLoc(distancePx, nullptr, &farthestPx, nullptr, nullptr, (scene.afterIceMm > 0.2f) & outside);
-    const double pixelMm = spec.distanceMm / scene.calibration.rectifiedFocalPx();
-    EXPECT_GT(farthestPx * pixelMm, 60.0);  // past volume.outline_growth_mm's 50 mm
-    // All of it below the blade: the trailing edge's side, the leading edge's clean.
+    const cv::Mat iceOutside = (scene.afterIceMm > 0.2f) & outside;
+    cv::minMaxLoc(distancePx, nullptr, &farthestPx, nullptr, nullptr, iceOutside);
     const cv::Rect box = cv::boundingRect(polygon);
-    const cv::Mat above = (scene.afterIceMm > 0.2f) & outside;
-    EXPECT_EQ(cv::countNonZero(above(cv::Rect(0, 0, above.cols, box.y))), 0);
+    return {farthestPx * spec.distanceMm / scene.calibration.rectifiedFocalPx(),
+            cv::countNonZero(iceOutside(cv::Rect(0, 0, iceOutside.cols, box.y)))};
+}
+
+SceneSpec icicledBlade(double volumeMm3, double lengthScale) {
+    SceneSpec spec;
+    spec.iceVolumeMm3 = volumeMm3;
+    spec.ice = IceKind::Icicles;
+    spec.icicleLength = lengthScale;
+    spec.motion = MotionKind::None;
+    spec.frameSize = {1280, 360};
+    spec.supersampling = 2;
+    spec.noiseSigma = 0;
+    return spec;
+}
+
+TEST(SynthScene, IciclesHangOutOfTheTrailingEdgeFartherThanTheChainsRing) {
+    const SceneSpec spec = icicledBlade(197717, 1.0);
+    const SyntheticScene scene = renderScene(spec);
+    EXPECT_NEAR(scene.iceVolumeMm3, 197717, 1e-6 * 197717);
+    const IceOutOfOutline out = iceOutOfOutline(spec, scene);
+    EXPECT_GT(out.farthestMm, 60.0);  // past volume.outline_growth_mm's 50 mm
+    EXPECT_EQ(out.aboveBladePixels, 0);  // all of it below the blade: the trailing edge's side
+}
+
+// Stubby icicles hold the same volume within the ring: the chain has to measure them, not refuse
+// them for reaching its edge.
+TEST(SynthScene, StubbyIciclesHoldTheirVolumeWithinTheChainsRing) {
+    const SceneSpec spec = icicledBlade(97609, 0.25);
+    const SyntheticScene scene = renderScene(spec);
+    EXPECT_NEAR(scene.iceVolumeMm3, 97609, 1e-6 * 97609);
+    const IceOutOfOutline out = iceOutOfOutline(spec, scene);
+    EXPECT_GT(out.farthestMm, 10.0);  // they still hang out of the outline
+    // Short of the last pixels of volume.outline_growth_mm's 50 mm, where ice is refused.
+    EXPECT_LT(out.farthestMm, 46.0);
+    EXPECT_EQ(out.aboveBladePixels, 0);
+    // Only icicles have a length.
+    SceneSpec glaze = spec;
+    glaze.ice = IceKind::GlazeAll;
+    EXPECT_THROW(renderScene(glaze), InvalidInput);
 }
 
 // A textured pair with a known whole-pixel shift and independent noise in each eye.
