@@ -44,6 +44,14 @@ cv::Mat measurableRing(const RectifiedCapture& capture, const cv::Mat& ring, con
 cv::Mat iceBeyondOutline(const cv::Mat& riseMm, const cv::Mat& inside, double minRiseMm, int gapNodes = 0,
                          double floorMm = 0.0);
 
+// How many nodes of the ring's outer edge (`ringEdge`, CV_8U) ice beyond the outline reaches:
+// ice that may reach farther than the chain looks (icicles hanging from an edge, a long horn).
+// Counted are the parts of `beyond` whose `thicknessMm` (CV_64F) is at least twice minRiseMm, and
+// the `tapered` nodes (may be empty: seen only by the background they hide), that stand so all the
+// way from the outline: within gapNodes (unmeasured) of `inside`.
+int iceAtRingEdge(const cv::Mat& beyond, const cv::Mat& tapered, const cv::Mat& thicknessMm, const cv::Mat& inside,
+                  const cv::Mat& ringEdge, double minRiseMm, int gapNodes);
+
 // Ice standing out of the outline where nothing under it could be measured, seen only by the
 // background it hides (`hidden`, per node, silhouette.hpp): as high on the outline as the ice on
 // the region's nearest nodes (`edgeThicknessMm`, per node), tapering to nothing where the

@@ -206,15 +206,8 @@ ThicknessMap thicknessMap(const GridSpec& grid, const PlaneClouds& clouds, const
     }
     map.onIce.setTo(255, map.beyond);
     map.beyondNodes = cv::countNonZero(map.beyond);
-    // What the background it hides shows there, or a rise of twice what counts as ice: a part
-    // counted for touching ice nearer the object runs out at the noise's level, and the edge holds
-    // hundreds of nodes. A rendered blade on a table moved 15 mm had 11 edge nodes at one
-    // threshold (4 sigma of the ring's rise), one at 1.5 and none at twice it; icicles reaching
-    // past the ring, 2 to 130 nodes at twice it on a table, and against the sky the background
-    // they hide.
-    cv::Mat standsThere = map.beyond & (map.thickness >= 2.0 * minRiseMm);
-    if (!map.tapered.empty()) standsThere |= map.tapered;
-    map.beyondAtRingEdgeNodes = cv::countNonZero(standsThere & map.ringEdge);
+    map.beyondAtRingEdgeNodes =
+        iceAtRingEdge(map.beyond, map.tapered, map.thickness, map.inside, map.ringEdge, minRiseMm, gapNodes);
     map.iceNodes += map.beyondNodes;
     map.filledNodes = fillFromNearest(map.thickness, map.onIce);
     return map;

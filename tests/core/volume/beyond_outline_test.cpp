@@ -101,6 +101,42 @@ TEST(BeyondOutline, IceTouchesTheObjectRisesAboveTheNoiseAndIsTakenDownToItsFoot
     EXPECT_EQ(cv::countNonZero(ice & inside), 0);
 }
 
+// Ice reaching the ring's outer edge (row 0, above a region from row 12 down, with a gap of two
+// unmeasured rows next to it): an icicle standing at least twice the least that counts from the
+// outline to the edge is counted where it meets the edge; one at 1.5 times is not, nor a spike of
+// the rise's error out at the edge on noise that touches the outline (that part counts as ice,
+// but not as ice that reaches the edge), nor a tapered part that does not touch the region.
+TEST(BeyondOutline, IceAtTheRingsEdgeIsWhatStandsThereAllTheWayFromTheOutline) {
+    constexpr double kMinRiseMm = 2.0;
+    constexpr int kGapNodes = 2;
+    cv::Mat inside = cv::Mat::zeros(20, 60, CV_8U);
+    inside.rowRange(12, 20).setTo(255);
+    cv::Mat ringEdge = cv::Mat::zeros(inside.size(), CV_8U);
+    ringEdge.row(0).setTo(255);
+    cv::Mat thickness(inside.size(), CV_64F, cv::Scalar(kNaN));
+    cv::Mat beyond = cv::Mat::zeros(inside.size(), CV_8U);
+    auto column = [&](int i, double rootMm, double edgeMm) {  // rows 0..9: the gap is rows 10, 11
+        for (int j = 0; j <= 9; ++j) {
+            thickness.at<double>(j, i) = edgeMm + (rootMm - edgeMm) * j / 9.0;
+            beyond.at<std::uint8_t>(j, i) = 255;
+        }
+    };
+    column(5, 12.0, 4.5);   // an icicle past the ring, twice the threshold and more all the way
+    column(6, 12.0, 4.5);
+    column(20, 12.0, 3.0);  // one whose tip crosses the edge at 1.5 times it
+    for (int i = 30; i < 45; ++i) column(i, 1.0, 1.0);  // the rise's noise, touching the outline
+    thickness.at<double>(0, 37) = 4.7;                  // and a spike of it at the edge
+    const cv::Mat none;
+    EXPECT_EQ(iceAtRingEdge(beyond, none, thickness, inside, ringEdge, kMinRiseMm, kGapNodes), 2);
+    // Seen only by the background it hides: counted when it touches the region, whatever its height.
+    cv::Mat tapered = cv::Mat::zeros(inside.size(), CV_8U);
+    tapered(cv::Rect(50, 0, 2, 10)).setTo(255);  // from the edge to the gap
+    tapered(cv::Rect(55, 0, 2, 5)).setTo(255);   // a cloud out at the edge alone
+    EXPECT_EQ(iceAtRingEdge(beyond, tapered, thickness, inside, ringEdge, kMinRiseMm, kGapNodes), 4);
+    // Without the gap, what stops two rows short of the region does not touch it.
+    EXPECT_EQ(iceAtRingEdge(beyond, tapered, thickness, inside, ringEdge, kMinRiseMm, 0), 0);
+}
+
 // A bead seen only by the sky it hides: 8 nodes in front of the region's 10 rows, 3 of them next
 // to the outline where the sky could not be compared, with 6 mm of ice on the outline. Its
 // thickness falls from the outline's to nothing at its silhouette as a rounded bead's, 2/3 of
