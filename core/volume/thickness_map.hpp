@@ -38,7 +38,8 @@ struct ThicknessMap {
     // CV_8U per node: the ring's outer edge, its last pixels away from the outline (kRingEdgePx).
     // Ice beyond the outline found there reaches as far as the chain looks, and may reach farther
     // (icicles hanging from an edge): beyondAtRingEdgeNodes counts its nodes, those seen by the
-    // background they hide or rising twice the least that counts as ice.
+    // background they hide or rising twice the least that counts as ice, all the way from the
+    // outline (iceAtRingEdge).
     cv::Mat ringEdge;
     int beyondAtRingEdgeNodes = 0;
     int insideNodes = 0, iceNodes = 0, beyondNodes = 0, taperedNodes = 0;
