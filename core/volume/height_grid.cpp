@@ -47,9 +47,9 @@ PlaneFrame fitPlane(const std::vector<cv::Vec3d>& points) {
     return frame;
 }
 
-std::optional<std::string> gridProblem(double uMin, double uMax, double vMin, double vMax, double cellMm) {
+GridOrProblem gridOver(double uMin, double uMax, double vMin, double vMax, double cellMm) {
     if (!(uMax > uMin) || !(vMax > vMin) || !(cellMm > 0)) {
-        return "grid: the region must have a positive extent and the cell a positive size";
+        return {std::nullopt, "grid: the region must have a positive extent and the cell a positive size"};
     }
     // Counted in floating point first: an extent of kilometres (or an infinite one) would overflow
     // the cast to int before any bound on the count could see it.
@@ -58,17 +58,8 @@ std::optional<std::string> gridProblem(double uMin, double uMax, double vMin, do
     if (!std::isfinite(nu * nv) || nu * nv > 5e7) {
         std::ostringstream what;
         what << std::fixed << std::setprecision(0) << "grid: " << nu << " x " << nv << " nodes is too many; use a larger cell";
-        return what.str();
+        return {std::nullopt, what.str()};
     }
-    return std::nullopt;
-}
-
-GridSpec makeGrid(double uMin, double uMax, double vMin, double vMax, double cellMm) {
-    if (const std::optional<std::string> problem = gridProblem(uMin, uMax, vMin, vMax, cellMm)) {
-        throw InvalidInput(*problem);
-    }
-    const double nu = std::ceil((uMax - uMin) / cellMm) + 1;
-    const double nv = std::ceil((vMax - vMin) / cellMm) + 1;
     GridSpec grid;
     grid.nu = static_cast<int>(nu);
     grid.nv = static_cast<int>(nv);
@@ -76,7 +67,13 @@ GridSpec makeGrid(double uMin, double uMax, double vMin, double vMax, double cel
     grid.v0 = vMin;
     grid.du = (uMax - uMin) / (grid.nu - 1);
     grid.dv = (vMax - vMin) / (grid.nv - 1);
-    return grid;
+    return {grid, {}};
+}
+
+GridSpec makeGrid(double uMin, double uMax, double vMin, double vMax, double cellMm) {
+    GridOrProblem made = gridOver(uMin, uMax, vMin, vMax, cellMm);
+    if (!made.grid) throw InvalidInput(made.problem);
+    return *made.grid;
 }
 
 namespace {

@@ -43,12 +43,19 @@ struct GridSpec {
     double areaPerNodeMm2() const { return du * dv; }
 };
 
-// Why there can be no grid over [uMin, uMax] × [vMin, vMax] at `cellMm` (no positive or finite
-// extent, no positive cell, or too many nodes), in words; none when makeGrid can build it.
-std::optional<std::string> gridProblem(double uMin, double uMax, double vMin, double vMax, double cellMm);
+// A grid, or why there is none, in words: the scene is not malformed when a region has no grid,
+// its outline is, and the chain refuses with the reason.
+struct GridOrProblem {
+    std::optional<GridSpec> grid;
+    std::string problem;
+};
 
 // The grid over [uMin, uMax] × [vMin, vMax] with N = ceil(extent / cell) + 1 nodes per axis and
-// Δ = extent / (N - 1), as the seed paper defines it. Throws InvalidInput with gridProblem's words.
+// Δ = extent / (N - 1), as the seed paper defines it; none without a positive, finite extent and
+// a positive cell, or with too many nodes.
+GridOrProblem gridOver(double uMin, double uMax, double vMin, double vMax, double cellMm);
+
+// The same, throwing InvalidInput with the problem's words.
 GridSpec makeGrid(double uMin, double uMax, double vMin, double vMax, double cellMm);
 
 // Linear interpolation of an organised point cloud onto the grid. `planePoints` (CV_64FC3: u, v, h

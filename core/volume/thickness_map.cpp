@@ -105,8 +105,7 @@ OutlineGrid outlineGrid(const cv::Mat& roi, const PlaneFrame& plane, const cv::M
             vMin = std::min(vMin, local.y);
             vMax = std::max(vMax, local.y);
         }
-    if (std::optional<std::string> problem = gridProblem(uMin, uMax, vMin, vMax, cellMm)) return {std::nullopt, *problem};
-    return {makeGrid(uMin, uMax, vMin, vMax, cellMm), {}};
+    return gridOver(uMin, uMax, vMin, vMax, cellMm);
 }
 
 ThicknessMap thicknessMap(const GridSpec& grid, const PlaneClouds& clouds, const cv::Mat& roi, const cv::Mat& ring,

@@ -51,10 +51,7 @@ struct ThicknessMap {
 // the outline has no measurable extent on the plane: a pixel whose ray meets it behind the camera
 // or never, or a grid of too many nodes (a plane seen nearly edge-on). The scene is not malformed
 // then, the outline is: `problem` says which pixel or how many nodes, for the refusal.
-struct OutlineGrid {
-    std::optional<GridSpec> grid;
-    std::string problem;
-};
+using OutlineGrid = GridOrProblem;
 OutlineGrid outlineGrid(const cv::Mat& roi, const PlaneFrame& plane, const cv::Matx33d& k, double cellMm);
 
 // On `grid` (outlineGrid of the region and its ring), interpolates both clouds linearly

@@ -92,17 +92,20 @@ TEST(PlaneFrame, ARayMeetsThePlaneInFrontOfItsStartOrNowhere) {
 }
 
 TEST(HeightGrid, TheReasonForNoGridIsGivenInWordsAndMakeGridThrowsIt) {
-    EXPECT_FALSE(gridProblem(0, 10, 0, 4, 0.5));
-    const std::optional<std::string> huge = gridProblem(0, 4.8e6, 0, 7.7e5, 1.0);
-    ASSERT_TRUE(huge);
-    EXPECT_NE(huge->find("4800001 x 770001 nodes is too many"), std::string::npos) << *huge;
-    ASSERT_TRUE(gridProblem(0, 10, 0, 10, 0.0));
-    EXPECT_NE(gridProblem(0, 10, 0, 10, 0.0)->find("positive size"), std::string::npos);
+    const GridOrProblem fine = gridOver(0, 10, 0, 4, 0.5);
+    ASSERT_TRUE(fine.grid);
+    EXPECT_TRUE(fine.problem.empty());
+    EXPECT_EQ(fine.grid->nu, 21);
+    const GridOrProblem huge = gridOver(0, 4.8e6, 0, 7.7e5, 1.0);
+    EXPECT_FALSE(huge.grid);
+    EXPECT_NE(huge.problem.find("4800001 x 770001 nodes is too many"), std::string::npos) << huge.problem;
+    EXPECT_FALSE(gridOver(0, 10, 0, 10, 0.0).grid);
+    EXPECT_NE(gridOver(0, 10, 0, 10, 0.0).problem.find("positive size"), std::string::npos);
     try {
         makeGrid(0, 10, 0, 10, -1.0);
         FAIL() << "a grid with a negative cell was built";
     } catch (const InvalidInput& e) {
-        EXPECT_EQ(std::string(e.what()), *gridProblem(0, 10, 0, 10, -1.0));
+        EXPECT_EQ(std::string(e.what()), gridOver(0, 10, 0, 10, -1.0).problem);
     }
 }
 
