@@ -23,6 +23,14 @@ cv::Mat grown(const cv::Mat& region, const cv::Rect& reach, int radiusPx) {
     return out;
 }
 
+// `mask` (CV_8U, on the grid) grown by the ring's gap of gapNodes next to the region and a node
+// more: what touches it across the unmeasured nodes between the outline and the ring.
+cv::Mat acrossTheGap(const cv::Mat& mask, int gapNodes) {
+    cv::Mat out;
+    cv::dilate(mask, out, cv::getStructuringElement(cv::MORPH_RECT, {2 * gapNodes + 3, 2 * gapNodes + 3}));
+    return out;
+}
+
 }  // namespace
 
 int outlineGrowthPx(const Parameters& p, double focalPx, double depthMm) {
@@ -114,17 +122,14 @@ cv::Mat iceBeyondOutline(const cv::Mat& riseMm, const cv::Mat& inside, double mi
     CV_Assert(riseMm.type() == CV_64FC1 && inside.type() == CV_8UC1 && riseMm.size() == inside.size());
     const cv::Mat rising = (riseMm > floorMm) & (inside == 0);  // NaN compares false
     // What lies within the gap of the region (and next to it).
-    cv::Mat near;
-    const cv::Mat square = cv::getStructuringElement(cv::MORPH_RECT, {2 * gapNodes + 3, 2 * gapNodes + 3});
-    cv::dilate(inside, near, square);
+    const cv::Mat near = acrossTheGap(inside, gapNodes);
     // Of the parts that touch the region, those that rise somewhere by minRiseMm.
     const cv::Mat touching = partsHolding(rising, near, 4);
     cv::Mat ice = partsHolding(touching, touching & (riseMm >= minRiseMm), 4);
     if (gapNodes > 0) {
         // The gap between the region and the ice touching it: unmeasured nodes near both.
-        cv::Mat nearIce;
-        cv::dilate(ice, nearIce, square);
-        ice.setTo(255, near & nearIce & (inside == 0) & ~(riseMm == riseMm));  // NaN != NaN: not measured
+        const cv::Mat unmeasured = ~(riseMm == riseMm);  // NaN != NaN
+        ice.setTo(255, near & acrossTheGap(ice, gapNodes) & (inside == 0) & unmeasured);
     }
     return ice;
 }
@@ -148,9 +153,7 @@ int iceAtRingEdge(const cv::Mat& beyond, const cv::Mat& tapered, const cv::Mat& 
     // rendered blade on a table, moved 17 mm and rolled 25°, held two such nodes of 4.7 mm on
     // ~1 mm of noise touching the outline, and was refused where it read +0.9 %). The gap between
     // the outline and the ring is not measured: a part within it touches.
-    cv::Mat near;
-    cv::dilate(inside, near, cv::getStructuringElement(cv::MORPH_RECT, {2 * gapNodes + 3, 2 * gapNodes + 3}));
-    return cv::countNonZero(partsHolding(standing, near) & ringEdge);
+    return cv::countNonZero(partsHolding(standing, acrossTheGap(inside, gapNodes)) & ringEdge);
 }
 
 cv::Mat taperedIce(const cv::Mat& hidden, const cv::Mat& inside, const cv::Mat& edgeThicknessMm, double minThicknessMm,
