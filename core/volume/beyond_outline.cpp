@@ -197,4 +197,40 @@ cv::Mat taperedIce(const cv::Mat& hidden, const cv::Mat& inside, const cv::Mat& 
     return ice;
 }
 
+cv::Mat widthAcrossMm(const cv::Mat& parts, double cellMm) {
+    CV_Assert(parts.type() == CV_8UC1 && cellMm > 0);
+    cv::Mat toOutside;  // nodes to the nearest node outside the parts: the disc's radius is half a node less
+    cv::distanceTransform(parts, toOutside, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+    cv::Mat radius(parts.size(), CV_32F, cv::Scalar(0));
+    const auto d = [&](int j, int i) {
+        return j < 0 || i < 0 || j >= parts.rows || i >= parts.cols ? 0.0f : toOutside.at<float>(j, i);
+    };
+    for (int j = 0; j < parts.rows; ++j)
+        for (int i = 0; i < parts.cols; ++i) {
+            const float own = d(j, i);
+            if (!(own > 0)) continue;
+            const float r = own - 0.5f;
+            radius.at<float>(j, i) = std::max(radius.at<float>(j, i), r);
+            // The largest discs are centred on the parts' spine (a distance no neighbour exceeds):
+            // they are painted over the nodes they cover; every node keeps at least its own.
+            bool spine = true;
+            for (int dj = -1; dj <= 1 && spine; ++dj)
+                for (int di = -1; di <= 1; ++di)
+                    if (d(j + dj, i + di) > own) {
+                        spine = false;
+                        break;
+                    }
+            if (!spine) continue;
+            const int reach = static_cast<int>(std::floor(r));
+            for (int y = std::max(0, j - reach); y <= std::min(parts.rows - 1, j + reach); ++y)
+                for (int x = std::max(0, i - reach); x <= std::min(parts.cols - 1, i + reach); ++x) {
+                    if (float(std::hypot(x - i, y - j)) > r || !parts.at<std::uint8_t>(y, x)) continue;
+                    radius.at<float>(y, x) = std::max(radius.at<float>(y, x), r);
+                }
+        }
+    cv::Mat width;
+    radius.convertTo(width, CV_64F, 2.0 * cellMm);
+    return width;
+}
+
 }  // namespace icewatch::volume

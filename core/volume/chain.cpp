@@ -190,9 +190,9 @@ std::optional<std::string> outlineObliquityProblem(const ThicknessMap& map, cons
 // Ice beyond the outline that reaches the ring's outer edge may reach farther, where nothing is
 // measured. Icicles hanging from a rendered trailing edge, 60-200 mm long, read -59 to -71 % and
 // `ok` outside their uncertainty while the ring cut them at 50 mm: no uncertainty can speak for
-// what lies past it. A wider ring is no cure: at 200 mm the same icicles against the sky read -52
-// and -58 %, one outside its uncertainty (narrow ice against a featureless background is read
-// low, as a bead's is), so the reason names no setting to change.
+// what lies past it. A wider ring is no cure: at 200 mm the same icicles against the sky read -44
+// to -58 % (narrow ice against a featureless background is read low, as a bead's is), inside an
+// uncertainty up to 3.4 times what was read, so the reason names no setting to change.
 std::optional<std::string> ringEdgeProblem(const ThicknessMap& map, const Parameters& p) {
     if (map.beyondAtRingEdgeNodes == 0) return std::nullopt;
     std::ostringstream reason;

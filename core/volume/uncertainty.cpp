@@ -6,6 +6,8 @@
 #include <limits>
 #include <vector>
 
+#include <opencv2/imgproc.hpp>
+
 #include "core/volume/beyond_outline.hpp"
 #include "core/volume/rigid_motion.hpp"
 #include "core/volume/robust_statistics.hpp"
@@ -86,6 +88,27 @@ double outlineIceIntegral(const ThicknessMap& map) {
     return integral;
 }
 
+// The most that the tapered parts (ThicknessMap::tapered) may hold, mm³: each part a block as high
+// as the ice on the outline (1.5 times its taper), or as deep as it is wide, whichever is more.
+double deepestTaperedMm3(const ThicknessMap& map) {
+    if (map.taperedNodes == 0) return 0.0;
+    const GridSpec& grid = map.grid;
+    const cv::Mat across = widthAcrossMm(map.tapered, std::max(grid.du, grid.dv));
+    cv::Mat labels;
+    const int parts = cv::connectedComponents(map.tapered, labels, 8, CV_32S);
+    std::vector<double> taper(parts, 0.0), width(parts, 0.0);
+    for (int j = 0; j < grid.nv; ++j)
+        for (int i = 0; i < grid.nu; ++i) {
+            const int part = labels.at<int>(j, i);
+            if (part == 0) continue;
+            taper[part] += map.thickness.at<double>(j, i);
+            width[part] += across.at<double>(j, i);
+        }
+    double deepest = 0;
+    for (int part = 1; part < parts; ++part) deepest += std::max(1.5 * taper[part], width[part]);
+    return deepest * grid.areaPerNodeMm2();
+}
+
 }  // namespace
 
 UncertaintyBudget volumeUncertainty(const ThicknessMap& map, const PlaneFrame& plane, const MotionEstimate& motion,
@@ -160,8 +183,10 @@ UncertaintyBudget volumeUncertainty(const ThicknessMap& map, const PlaneFrame& p
     fringeMm3 *= map.grid.areaPerNodeMm2();
     thinMm3 *= map.grid.areaPerNodeMm2();
     // Ice seen only by the background it hides is tapered from the outline's height to nothing as a
-    // rounded bead (2/3 of height times width); a wedge (1/2) and a block (1) bound it, uniformly.
-    const double shapeMm3 = taperedMm3 * (0.5 / std::sqrt(12.0)) / (2.0 / 3.0);
+    // rounded bead (2/3 of height times width); a wedge (1/2) bounds it from below, uniformly up to
+    // a block as high as the outline's ice (1) or, where a part stands out wider than that, as deep
+    // as it is wide (widthAcrossMm: icicles hang from a thin runback band).
+    const double shapeMm3 = (deepestTaperedMm3(map) - 0.75 * taperedMm3) / std::sqrt(12.0);
     const double pullMm3 = (fringeMm3 + taperedMm3 + thinMm3) / std::sqrt(3.0);
     b.outlineMm3 = std::sqrt(footingMm3 * footingMm3 + unseenMm3 * unseenMm3 + shapeMm3 * shapeMm3 + pullMm3 * pullMm3);
     b.seenThroughMm3 = seenThroughSigmaMm3(seenThrough);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -197,6 +198,29 @@ TEST(BeyondOutline, TheNotchesOfASlantedOutlineAreNotIce) {
     EXPECT_TRUE(ice.at<std::uint8_t>(18, 55));
     EXPECT_EQ(cv::countNonZero(ice.colRange(0, 30)), 0);
     EXPECT_EQ(cv::countNonZero(ice.colRange(80, 120)), 0);
+}
+
+// A strip 5 nodes wide is 5 wide across all of it, edges too; a cone hanging from it is as wide
+// as its section at each height, its root wider than its tip; a lone node is one node wide.
+TEST(BeyondOutline, WidthAcrossIsTheLargestDiscThatCoversTheNode) {
+    cv::Mat parts = cv::Mat::zeros(80, 80, CV_8U);
+    cv::rectangle(parts, cv::Rect(10, 10, 60, 5), cv::Scalar(255), cv::FILLED);  // rows 10-14
+    cv::fillConvexPoly(parts, std::vector<cv::Point>{{30, 15}, {50, 15}, {40, 75}}, cv::Scalar(255));
+    parts.at<std::uint8_t>(78, 5) = 255;
+    const cv::Mat width = widthAcrossMm(parts, 2.0);
+    ASSERT_EQ(width.type(), CV_64FC1);
+    EXPECT_NEAR(width.at<double>(12, 15), 10.0, 1e-6);  // 5 nodes of 2 mm
+    EXPECT_NEAR(width.at<double>(10, 15), 10.0, 1e-6);  // its edge lies in the same disc
+    EXPECT_NEAR(width.at<double>(78, 5), 2.0, 1e-6);
+    EXPECT_EQ(width.at<double>(5, 5), 0.0);
+    // The cone is 20 nodes wide at its root and 0 at its tip: 2 mm nodes, a disc fits about 14 of
+    // them near the root (the triangle's incircle there), a few near the tip.
+    const double root = width.at<double>(22, 40), tip = width.at<double>(70, 40);
+    EXPECT_GT(root, 20.0);
+    EXPECT_LT(root, 40.0);
+    EXPECT_LE(tip, 6.0);  // 5 nodes above the tip the section is 2 or 3 nodes
+    EXPECT_GT(root, 4 * tip);
+    EXPECT_TRUE(cv::countNonZero((width > 0) != (parts > 0)) == 0);
 }
 
 }  // namespace

@@ -163,7 +163,9 @@ TEST(VolumeUncertainty, IceBesideWhatStandsOutAgainstTheSkyMayBeAsMuchAgain) {
     const double footing = 1.5 * 20 * 4.0;
     const double unseen = blindMm * (120.0 - 40.0 - 4.0) / std::sqrt(3.0);
     const double tapered = 20 * 4.0;
-    const double shape = tapered * (0.5 / std::sqrt(12.0)) / (2.0 / 3.0);
+    // Between a wedge (3/4 of the taper) and, since a row one node (2 mm) wide may be as deep as it
+    // is wide, 2 mm on every node: more than a block of the outline's 1 mm (1.5 times the taper).
+    const double shape = (20 * 2.0 * 4.0 - 0.75 * tapered) / std::sqrt(12.0);
     auto outline = [&](double pull) { return std::sqrt(footing * footing + unseen * unseen + shape * shape + pull * pull); };
     EXPECT_NEAR(volumeUncertainty(map, plane, {}, {}, view, p, 800.0).outlineMm3, outline(tapered / std::sqrt(3.0)), 1e-9);
     map.fringe = cv::Mat::zeros(10, 20, CV_8U);
@@ -180,6 +182,33 @@ TEST(VolumeUncertainty, IceBesideWhatStandsOutAgainstTheSkyMayBeAsMuchAgain) {
     map.thinBeyondMm.at<double>(0, 3) = map.thinBeyondMm.at<double>(0, 4) = 1.5;
     EXPECT_NEAR(volumeUncertainty(map, plane, {}, {}, view, p, 800.0).outlineMm3,
                 outline((tapered + fringe + 2 * 1.5 * 4.0) / std::sqrt(3.0)), 1e-6);
+}
+
+// An icicle hangs from a thin runback band: seen only by the sky it hides, it is tapered from the
+// band's height, but it may be as deep as it is wide (a round section). A part 5 nodes (10 mm) wide
+// and 6 long under a band read 0.5 mm thick: its shape may hold far more than a block of 0.5 mm.
+TEST(VolumeUncertainty, IceSeenOnlyByTheSkyItHidesMayBeAsDeepAsItIsWide) {
+    ThicknessMap map = flatMap();
+    const OutlineView o;
+    map.thickness.setTo(0.0);  // no ice on the outline: its blind band holds none
+    map.inside.rowRange(4, 10).setTo(0);
+    map.beyond = cv::Mat::zeros(10, 20, CV_8U);
+    const cv::Rect icicle(8, 4, 5, 6);
+    map.beyond(icicle).setTo(255);
+    map.thickness(icicle).setTo(0.5);
+    map.tapered = map.beyond.clone();
+    map.beyondNodes = map.taperedNodes = 30;
+    const double tapered = 30 * 0.5 * 4.0;
+    const double widthMm3 = cv::sum(widthAcrossMm(map.tapered, 2.0))[0] * 4.0;
+    EXPECT_GT(widthMm3, 30 * 6.0 * 4.0);  // most of it 10 mm wide, its corners less
+    const double shape = (widthMm3 - 0.75 * tapered) / std::sqrt(12.0);
+    const double footing = 1.5 * 30 * 4.0, pull = tapered / std::sqrt(3.0);
+    const double outline = volumeUncertainty(map, o.plane, {}, {}, o.view, o.p, 100.0).outlineMm3;
+    EXPECT_NEAR(outline, std::sqrt(footing * footing + shape * shape + pull * pull), 1e-9);
+    // With the block's bound alone (a uniform over [0.75, 1.5] of the taper) the term would be
+    // about half as wide.
+    const double blockOnly = std::sqrt(footing * footing + std::pow(0.75 * tapered / std::sqrt(12.0), 2) + pull * pull);
+    EXPECT_GT(outline, 1.8 * blockOnly);
 }
 
 }  // namespace
