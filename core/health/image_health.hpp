@@ -24,7 +24,8 @@ struct ImageHealth {
     // structure, not its exposure). Brighter scenes are taken as they are (the limits were set on
     // well-lit ones).
     double sharpness = 0.0;         // variance of the 3x3 Laplacian of the grey image at 1/4 scale
-    double contrast = 0.0;          // standard deviation of the grey level
+    double contrast = 0.0;          // standard deviation of the grey level, in the most varied tile
+                                    // of a 4 x 4 grid
     std::vector<HealthProblem> problems;
 
     bool ok() const { return problems.empty(); }

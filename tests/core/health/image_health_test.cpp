@@ -1,5 +1,8 @@
 #include "core/health/image_health.hpp"
 
+#include <cmath>
+#include <string>
+
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
@@ -72,9 +75,44 @@ TEST(ImageHealth, ASmallObjectAgainstAPlainSkyIsNotFog) {
     cv::RNG rng(11);
     rng.fill(frame, cv::RNG::NORMAL, 180, 1.5);  // the sky and the sensor's noise
     rng.fill(frame(cv::Rect(130, 100, 60, 40)), cv::RNG::UNIFORM, 150, 210);  // the object, 3 % of it
+    cv::Scalar mean, stddev;
+    cv::meanStdDev(frame, mean, stddev);
+    EXPECT_LT(stddev[0], 6.0) << "the whole frame as flat as the fog the frame check was once set for";
     const ImageHealth h = checkImageHealth(frame, kLimits);
-    EXPECT_LT(h.contrast, 6.0) << "as flat as the fog the frame check was once set for";
     EXPECT_TRUE(h.ok()) << (h.problems.empty() ? "" : h.problems[0].reason);
+}
+
+// Far off and small, through a tone curve that flattens the sky: the whole frame varies less than
+// the limit, but fog would flatten the object's part of it too.
+TEST(ImageHealth, ASmallFarObjectIsNotFogWhereTheWholeFrameIsFlatterThanTheLimit) {
+    cv::Mat frame(240, 320, CV_8UC1);
+    cv::RNG rng(13);
+    rng.fill(frame, cv::RNG::NORMAL, 180, 0.5);
+    rng.fill(frame(cv::Rect(100, 70, 20, 14)), cv::RNG::UNIFORM, 150, 210);  // 0.4 % of the frame
+    cv::Scalar mean, stddev;
+    cv::meanStdDev(frame, mean, stddev);
+    ASSERT_LT(stddev[0], kLimits.minContrast) << "the whole frame is flatter than the limit";
+    const ImageHealth h = checkImageHealth(frame, kLimits);
+    EXPECT_GT(h.contrast, 2 * kLimits.minContrast);
+    EXPECT_TRUE(h.ok()) << (h.problems.empty() ? "" : h.problems[0].reason);
+}
+
+// A figure that rounds to its limit is printed to as many decimals as tell them apart.
+TEST(ImageHealth, AFigureJustUnderItsLimitIsNotPrintedAsTheLimit) {
+    const cv::Mat fog = texturedScene(0.03, 110);
+    config::ImageHealthConfig limits = kLimits;
+    // A limit above the figure that rounds to the same tenth.
+    const double contrast = checkImageHealth(fog, kLimits).contrast, tenth = std::round(contrast * 10.0) / 10.0;
+    limits.minContrast = tenth > contrast ? (contrast + tenth) / 2 : (contrast + tenth + 0.05) / 2;
+    const ImageHealth h = checkImageHealth(fog, limits);
+    ASSERT_FALSE(h.ok());
+    const std::string& reason = h.problems.front().reason;
+    const std::size_t below = reason.find(" below ");
+    ASSERT_NE(below, std::string::npos) << reason;
+    const std::string value = reason.substr(std::string("grey-level deviation ").size(),
+                                            below - std::string("grey-level deviation ").size());
+    EXPECT_NE(value, reason.substr(below + 7)) << reason;
+    EXPECT_NEAR(std::stod(value), h.contrast, 0.006) << reason;
 }
 
 TEST(ImageHealth, DropletsBlur) {
