@@ -199,8 +199,12 @@ cv::Mat taperedIce(const cv::Mat& hidden, const cv::Mat& inside, const cv::Mat& 
 
 cv::Mat widthAcrossMm(const cv::Mat& parts, double cellMm) {
     CV_Assert(parts.type() == CV_8UC1 && cellMm > 0);
-    cv::Mat toOutside;  // nodes to the nearest node outside the parts: the disc's radius is half a node less
-    cv::distanceTransform(parts, toOutside, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+    // Nodes to the nearest node outside the parts (the disc's radius is half a node less); past the
+    // grid's edge is outside too, so that a part filling the grid still ends somewhere.
+    cv::Mat padded, toOutside;
+    cv::copyMakeBorder(parts, padded, 1, 1, 1, 1, cv::BORDER_CONSTANT, cv::Scalar(0));
+    cv::distanceTransform(padded, toOutside, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+    toOutside = toOutside(cv::Rect(1, 1, parts.cols, parts.rows));
     cv::Mat radius(parts.size(), CV_32F, cv::Scalar(0));
     const auto d = [&](int j, int i) {
         return j < 0 || i < 0 || j >= parts.rows || i >= parts.cols ? 0.0f : toOutside.at<float>(j, i);

@@ -221,6 +221,11 @@ TEST(BeyondOutline, WidthAcrossIsTheLargestDiscThatCoversTheNode) {
     EXPECT_LE(tip, 6.0);  // 5 nodes above the tip the section is 2 or 3 nodes
     EXPECT_GT(root, 4 * tip);
     EXPECT_TRUE(cv::countNonZero((width > 0) != (parts > 0)) == 0);
+    // A part that fills the grid ends at its edge: 7 x 5 nodes of 1 mm are 5 wide in the middle.
+    const cv::Mat all = widthAcrossMm(cv::Mat(5, 7, CV_8U, cv::Scalar(255)), 1.0);
+    EXPECT_NEAR(all.at<double>(2, 3), 5.0, 1e-6);
+    EXPECT_NEAR(all.at<double>(0, 3), 5.0, 1e-6);  // the disc in the middle reaches its edge
+    EXPECT_LT(all.at<double>(0, 0), 5.0);           // but not its corners
 }
 
 }  // namespace
