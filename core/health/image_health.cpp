@@ -63,9 +63,7 @@ ImageHealth checkImageHealth(const cv::Mat& image, const config::ImageHealthConf
         grey = image;
     }
     ImageHealth h;
-    cv::Scalar mean, stddev;
-    cv::meanStdDev(grey, mean, stddev);
-    h.meanLevel = mean[0];
+    h.meanLevel = cv::mean(grey)[0];
     const double exposure = exposureScale(h.meanLevel);
     h.contrast = mostVariedTileDeviation(grey) * exposure;
     h.saturatedPercent = 100.0 * cv::countNonZero(grey >= 250) / static_cast<double>(grey.total());

@@ -201,30 +201,21 @@ cv::Mat widthAcrossMm(const cv::Mat& parts, double cellMm) {
     CV_Assert(parts.type() == CV_8UC1 && cellMm > 0);
     // Nodes to the nearest node outside the parts (the disc's radius is half a node less); past the
     // grid's edge is outside too, so that a part filling the grid still ends somewhere.
-    cv::Mat padded, toOutside;
+    cv::Mat padded, toOutside, neighbours;
     cv::copyMakeBorder(parts, padded, 1, 1, 1, 1, cv::BORDER_CONSTANT, cv::Scalar(0));
     cv::distanceTransform(padded, toOutside, cv::DIST_L2, cv::DIST_MASK_PRECISE);
     toOutside = toOutside(cv::Rect(1, 1, parts.cols, parts.rows));
+    // The largest discs are centred on the parts' spine, where no neighbour's distance exceeds the
+    // node's own: they are painted over the nodes they cover; every node keeps at least its own.
+    cv::dilate(toOutside, neighbours, cv::getStructuringElement(cv::MORPH_RECT, {3, 3}));
     cv::Mat radius(parts.size(), CV_32F, cv::Scalar(0));
-    const auto d = [&](int j, int i) {
-        return j < 0 || i < 0 || j >= parts.rows || i >= parts.cols ? 0.0f : toOutside.at<float>(j, i);
-    };
     for (int j = 0; j < parts.rows; ++j)
         for (int i = 0; i < parts.cols; ++i) {
-            const float own = d(j, i);
+            const float own = toOutside.at<float>(j, i);
             if (!(own > 0)) continue;
             const float r = own - 0.5f;
             radius.at<float>(j, i) = std::max(radius.at<float>(j, i), r);
-            // The largest discs are centred on the parts' spine (a distance no neighbour exceeds):
-            // they are painted over the nodes they cover; every node keeps at least its own.
-            bool spine = true;
-            for (int dj = -1; dj <= 1 && spine; ++dj)
-                for (int di = -1; di <= 1; ++di)
-                    if (d(j + dj, i + di) > own) {
-                        spine = false;
-                        break;
-                    }
-            if (!spine) continue;
+            if (neighbours.at<float>(j, i) > own) continue;
             const int reach = static_cast<int>(std::floor(r));
             for (int y = std::max(0, j - reach); y <= std::min(parts.rows - 1, j + reach); ++y)
                 for (int x = std::max(0, i - reach); x <= std::min(parts.cols - 1, i + reach); ++x) {
