@@ -17,6 +17,7 @@
 //                   → ice mask (ice_mask) → both clouds on the plane, k-NN filter (plane_clouds)
 //                   → grid, thickness (thickness_map) → integrate (trapz | sum) → uncertainty
 //                   (uncertainty) → gate
+//   Each gate (gates.hpp) refuses, with its reason, as soon as what it judges is known.
 #include "core/volume/chain.hpp"
 
 #include <algorithm>
@@ -34,6 +35,7 @@
 #include "core/volume/beyond_outline.hpp"
 #include "core/volume/drawn_outline.hpp"
 #include "core/volume/edge_blur.hpp"
+#include "core/volume/gates.hpp"
 #include "core/volume/height_grid.hpp"
 #include "core/volume/ice_mask.hpp"
 #include "core/volume/image_motion.hpp"
@@ -57,13 +59,6 @@ namespace icewatch::volume {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-// A segmented region reaching more of the frame's edge than this is the view, not an object: a
-// blade across the view reaches two sides, about a third of the edge at 2560x720.
-constexpr double kMaxSegmentedEdgeShare = 0.6;
-// Said of a refusal that a segmented region may explain.
-constexpr const char* kNoOutlineHint =
-    "; no outline of the object was given (roi.json in a scene, volume.roi_polygon in the configuration) and "
-    "the region was found by depth alone: draw the object's outline";
 
 // Times consecutive stages with the clock the chain was given.
 class StageTimer {
@@ -156,52 +151,6 @@ void checkParameters(const Parameters& p) {
     }
 }
 
-// The most the baseline's plane may be turned out of the view before it is taken for something
-// other than the object's surface.
-constexpr double kMaxPlaneObliquityDeg = 75.0;
-
-// Ice standing out of the outline on an object turned out of the view: what the camera sees of it
-// hides what lies behind it, the background or the object's own surface, and the chain reads that
-// hidden space as ice (a bead read as if seen from the front, a horn whose underside the view
-// does not reach). Facing the camera, the hidden space is only the ice's own footprint. The ice
-// beyond the outline counts when the taper read it from the background it hides, or when it is
-// larger than the outline's own uncertainty (k times its term): less is the outline's noise.
-std::optional<std::string> outlineObliquityProblem(const ThicknessMap& map, const PlaneFrame& plane,
-                                                   const VolumeResult& result, const Parameters& p) {
-    const double obliquityDeg = viewObliquityDeg(plane);
-    if (obliquityDeg <= p.outlineMaxObliquityDeg) return std::nullopt;
-    const double outlineNoise = p.coverageFactor * result.budget.outlineMm3;
-    std::ostringstream reason;
-    reason.precision(3);
-    if (map.taperedNodes > 0) {
-        reason << "ice stands out of the outline where only the background it hides shows it, read as a bead seen "
-                  "from the front, and the object is turned ";
-    } else if (result.beyondOutlineMm3 > outlineNoise) {
-        reason << "ice stands out of the outline (" << std::lround(result.beyondOutlineMm3)
-               << " mm3, more than the outline's uncertainty of " << std::lround(outlineNoise)
-               << " mm3) and hides what lies behind it, which would read as ice: the object is turned ";
-    } else {
-        return std::nullopt;
-    }
-    reason << obliquityDeg << "° out of the view (max " << p.outlineMaxObliquityDeg << "°)";
-    return reason.str();
-}
-
-// Ice beyond the outline that reaches the ring's outer edge may reach farther, where nothing is
-// measured. Icicles hanging from a rendered trailing edge, 60-200 mm long, read -59 to -71 % and
-// `ok` outside their uncertainty while the ring cut them at 50 mm: no uncertainty can speak for
-// what lies past it. A wider ring is no cure: at 200 mm the same icicles against the sky read -44
-// to -58 % (narrow ice against a featureless background is read low, as a bead's is), inside an
-// uncertainty up to 3.4 times what was read, so the reason names no setting to change.
-std::optional<std::string> ringEdgeProblem(const ThicknessMap& map, const Parameters& p) {
-    if (map.beyondAtRingEdgeNodes == 0) return std::nullopt;
-    std::ostringstream reason;
-    reason << "ice stands out of the outline as far as the ring watched around it reaches (" << map.beyondAtRingEdgeNodes
-           << " nodes at its edge, " << p.outlineGrowthMm
-           << " mm out): it may reach farther, where nothing is measured (icicles hanging from an edge, a long horn)";
-    return reason.str();
-}
-
 }  // namespace
 
 struct VolumeChain::Impl {
@@ -238,6 +187,27 @@ struct VolumeChain::Impl {
     void refineOnSlantedWindows(const cv::Mat& left, const cv::Mat& right, const MatchRegion& region,
                                 const cv::Rect& window, const cv::Mat& roi, bool ofBaseline,
                                 const std::optional<PlaneFrame>& baselinePlane, cv::Mat& disparity) const;
+
+    // estimate's stages that need the chain's calibration, matcher or outline.
+    struct TrackedTexture {
+        std::vector<TextureTrack> tracks;
+        TextureTrackOptions options;
+        std::optional<double> lightRatio;  // the background's light, current over baseline (background_light.hpp)
+    };
+    TrackedTexture trackCaptures(const Surface& baseline, const Surface& current, const BaselineModel& model) const;
+    std::optional<std::string> outlineGrowthProblem(const Surface& baseline, const Surface& current,
+                                                    const BaselineModel& model, const MotionEstimate& motion,
+                                                    VolumeResult& result) const;
+    int measurementReachPx() const;
+    HiddenBackground hiddenBackground(const Surface& baseline, const Surface& current, const BaselineModel& model,
+                                      const cv::Mat& objectInCurrent, const cv::Mat& currentRing,
+                                      const RigidTransform& transform, std::optional<double> lightRatio) const;
+    std::optional<std::string> leftOutBackgroundProblem(const Surface& baseline, const Surface& current,
+                                                        const BaselineModel& model, const cv::Mat& objectInCurrent,
+                                                        std::optional<double> lightRatio) const;
+    void budget(const ThicknessMap& map, const PlaneFrame& plane, const MotionEstimate& motion, const MatcherPush& push,
+                const SeenThroughIce& seen, const Surface& current, const BaselineModel& model,
+                const cv::Mat& objectInCurrent, VolumeResult& result) const;
 };
 
 namespace {
@@ -516,6 +486,238 @@ MatchRegion VolumeChain::Impl::followUpRegion(const Surface& s) const {
     }
 }
 
+namespace {
+
+// --- the stages estimate() calls, in its order (its gates are in gates.hpp) ---
+
+// How the motion is judged from the tracks (motion_evidence.hpp).
+MotionEvidenceOptions motionEvidenceOptions(const Parameters& p, std::optional<double> lightRatio) {
+    MotionEvidenceOptions evidence;
+    evidence.minPairs = p.minEvidenceSamples;
+    evidence.minSupportSpanPercent = p.minSupportSpanPercent;
+    evidence.backgroundBandMm = p.backgroundBandMm;
+    evidence.maxObjectAloneLightSpread = p.maxObjectAloneLightSpreadPercent / 100.0;
+    evidence.lightRatio = lightRatio;
+    // Neighbouring tracks' windows overlap: their errors are not independent.
+    const double overlap = (2.0 * p.trackRadiusPx + 1) / p.trackStepPx;
+    evidence.fit.correlationFactor = std::max(1.0, overlap * overlap);
+    return evidence;
+}
+
+// What the tracks and the motion say, for the result.
+void recordEvidence(const std::vector<TextureTrack>& tracks, const MotionEstimate& motion, VolumeResult& result) {
+    result.objectLightShift = motion.objectLightShift;
+    result.objectLightSpread = motion.objectLightSpread;
+    for (const TextureTrack& t : tracks) {
+        if (t.state == TextureTrack::State::Unchanged) ++result.unchangedSamples;
+        if (t.state == TextureTrack::State::Changed && t.onObject) ++result.changedSamples;
+    }
+    result.textureInliers = motion.objectEvidence;
+    result.backgroundInliers = motion.backgroundEvidence;
+    result.registrationSource = motion.source;
+    result.supportSpanPercent = motion.supportSpanPercent;
+}
+
+// Why the motion was not found, with what the light says and, where the object's texture was
+// hardly found at all, what the region's search says.
+std::string unregisteredReason(const MotionEstimate& motion, const std::vector<TextureTrack>& tracks,
+                               std::optional<double> lightRatio, const TextureTrackOptions& trackOptions,
+                               const Surface& current, const Parameters& p) {
+    const std::string light =
+        motion.objectLightShifted ? "" : objectLightNote(tracks, lightRatio, trackOptions.maxBrightnessChange);
+    const std::string reason = light.empty() ? motion.reason : motion.reason + "; " + light;
+    // The scene's shift said the object left the matched box, and the region was not found
+    // there either: a guess, and one its texture found again where it was contradicts. A
+    // repeated texture (ridges of ice) gave a moved blade's shift a peak 241 px away, and the
+    // refusal told the operator to take a new baseline when the light on the blade was what
+    // failed; a blank blade under white ice, found neither in place nor 163 px away, was told
+    // it had moved out when nothing said how it moved.
+    const auto foundOnObject = std::count_if(tracks.begin(), tracks.end(), [](const TextureTrack& t) {
+        return t.state != TextureTrack::State::Untracked && t.onObject;  // its look kept or not
+    });
+    if (!current.regionHint.empty() && foundOnObject < p.minEvidenceSamples) return reason + "; or " + current.regionHint;
+    return reason;
+}
+
+// The motion, for the result: how far it moved the object's plane, and how well it fitted.
+void recordRegistration(const MotionEstimate& motion, const PlaneFrame& plane, VolumeResult& result) {
+    const RigidTransform& transform = motion.transform;
+    result.registrationMm = cv::norm(transform.apply(plane.origin) - plane.origin);
+    result.registrationDeg = std::acos(std::clamp((cv::trace(transform.rotation) - 1.0) / 2.0, -1.0, 1.0)) * 180.0 / kPi;
+    result.registrationRmsMm = std::sqrt(motion.chi2PerDof);
+    result.registration = transform;
+}
+
+// The matcher against the tracks on the clean texture beside the ice, and on every texture found
+// again (under a clear layer too, where no clean texture is left): the larger of the two.
+MatcherPush strongerPush(const std::vector<TextureTrack>& tracks, const MotionEstimate& motion,
+                         const Surface& baseline, const Surface& current, const cv::Mat& possibleIce,
+                         double correlationFactor) {
+    std::vector<std::uint8_t> found(tracks.size(), 0);
+    for (std::size_t i = 0; i < tracks.size(); ++i) found[i] = tracks[i].state != TextureTrack::State::Untracked;
+    MatcherPush onClean = matcherPush(tracks, motion.clean, baseline.disparity, current.disparity, possibleIce, correlationFactor);
+    MatcherPush onFound = matcherPush(tracks, found, baseline.disparity, current.disparity, possibleIce, correlationFactor);
+    return std::abs(onFound.meanPx) > std::abs(onClean.meanPx) ? onFound : onClean;
+}
+
+// Integrates the thickness; ice the texture was seen through, the matcher read as low as
+// refraction shows it (seen_through.hpp), and is counted at its share.
+IceSummary integrateIce(const ThicknessMap& map, const SeenThroughIce& seen, const Parameters& p, VolumeResult& result) {
+    IceSummary ice = summarise(map, p.integration);
+    result.volumeMm3 = ice.volumeMm3 + seenThroughShareMm3(seen);
+    result.seenThroughMm3 = seen.readMm3;
+    result.glimpsedThroughMm3 = seen.glimpsedReadMm3;
+    result.areaMm2 = ice.areaMm2;
+    result.iceAreaMm2 = ice.iceAreaMm2;
+    result.beyondOutlineMm3 = ice.beyondOutlineMm3;
+    result.beyondOutlineAreaMm2 = ice.beyondOutlineAreaMm2;
+    result.meanThicknessMm = ice.areaMm2 > 0 ? result.volumeMm3 / ice.areaMm2 : 0.0;
+    result.maxThicknessMm = ice.maxThicknessMm;
+    return ice;
+}
+
+// The current surface in the baseline's frame, each point with the thickness of its grid node,
+// for the picture of the cloud.
+void recordCloud(const PlaneClouds& clouds, const ThicknessMap& map, const PlaneFrame& plane, VolumeResult& result) {
+    const GridSpec& grid = map.grid;
+    for (int y = 0; y < clouds.current.rows; ++y)
+        for (int x = 0; x < clouds.current.cols; ++x) {
+            const cv::Vec3d local = clouds.current.at<cv::Vec3d>(y, x);
+            if (std::isnan(local[2])) continue;
+            const int i = static_cast<int>(std::lround((local[0] - grid.u0) / grid.du));
+            const int j = static_cast<int>(std::lround((local[1] - grid.v0) / grid.dv));
+            const bool onGrid = i >= 0 && j >= 0 && i < grid.nu && j < grid.nv;
+            result.cloudMm.push_back(cv::Vec3f(plane.toCamera(local[0], local[1], local[2])));
+            result.cloudThicknessMm.push_back(onGrid ? static_cast<float>(map.thickness.at<double>(j, i)) : 0.0f);
+        }
+}
+
+}  // namespace
+
+// The texture the ice did not change, tracked from the baseline to the current capture in both
+// eyes (texture_tracks.hpp), and the light on the background between them.
+VolumeChain::Impl::TrackedTexture VolumeChain::Impl::trackCaptures(const Surface& baseline, const Surface& current,
+                                                                   const BaselineModel& model) const {
+    const RectifiedCapture before{baseline.trackLeft, baseline.trackRight, baseline.disparity};
+    const RectifiedCapture after{current.trackLeft, current.trackRight, current.disparity};
+    TrackedTexture tracked;
+    tracked.options = textureTrackOptions(parameters);
+    // The trackers start from the object's image motion, found around the scene's global shift; a
+    // phase correlation can lock onto the wrong peak (bright ice that appeared, a repeated
+    // texture), so a shift larger than any motion the registration accepts is not believed and the
+    // search starts where the object was.
+    cv::Point2d shift = current.shiftFromBaselinePx ? *current.shiftFromBaselinePx
+                                                    : globalImageShift(baseline.leftGrey, current.leftGrey, baseline.roi);
+    if (cv::norm(shift) > parameters.maxRegistrationMm * focalPx / model.plane.origin[2]) shift = {0, 0};
+    const cv::Matx23d imageMotion =
+        objectImageMotion(baseline.leftGrey, current.leftGrey, baseline.roi, shift,
+                          confirmedShift(baseline.leftGrey, current.leftGrey, baseline.roi, shift));
+    tracked.lightRatio = backgroundLightRatio(baseline.leftGrey, current.leftGrey, baseline.roi,
+                                              baseline.matchedWindow, current.matchedWindow);
+    tracked.tracks = trackTexture(model.samples, before, after, cv::Matx44d(calibration.Q), imageMotion,
+                                  tracked.lightRatio, tracked.options);
+    return tracked;
+}
+
+// A layer over the whole object wraps its edges as well, and the texture that kept its look under
+// it (a clear glaze brightening it as much as the sun dimmed) moved with the layer's surface: the
+// outline grown against the sky on both long sides says so where the texture cannot.
+std::optional<std::string> VolumeChain::Impl::outlineGrowthProblem(const Surface& baseline, const Surface& current,
+                                                                   const BaselineModel& model,
+                                                                   const MotionEstimate& motion,
+                                                                   VolumeResult& result) const {
+    if (model.featureless.empty()) return std::nullopt;
+    OutlineGrowthOptions growthOptions;
+    growthOptions.blurPx = model.blurPx.value_or(0.0);
+    const OutlineGrowth growth = outlineGrowth(baseline.leftGrey, current.leftGrey, baseline.roi, model.featureless,
+                                               model.plane, motion.transform, projection.get_minor<3, 3>(0, 0),
+                                               baseline.matchedWindow & current.matchedWindow, growthOptions);
+    result.outlineGrowthMm = growth.medianMm;
+    result.outlineGrowthStations = growth.stations;
+    if (!growth.bothSidesChanged || motion.backgroundEvidence > 0) return std::nullopt;
+    std::ostringstream reason;
+    reason.precision(3);
+    reason << "the motion between the captures is not observable: the outline changed against the sky on both "
+              "long sides beyond the motion the object's texture gives (the width it covers by "
+           << growth.medianMm[0] << " and " << growth.medianMm[1] << " mm at the median of " << growth.stations[0]
+           << " and " << growth.stations[1]
+           << " places): ice over its edges too, or a motion that is not the object's, so the texture that kept "
+              "its look may lie under a layer over all of the object, and no background it rests on was found";
+    return reason.str();
+}
+
+// How far around the ice its measurement reaches: the slanted window's, or without it the
+// matcher's aggregation, which spreads the ice's disparity 35 px around it.
+int VolumeChain::Impl::measurementReachPx() const {
+    const Parameters& p = parameters;
+    return p.slantedWindow ? p.iceMaskGrowPx : std::max(p.iceMaskGrowPx, matcherReachPx(p.stereoMethod, matcher.parameters()));
+}
+
+// What the current capture hides of the background beside the outline, off its mixed edge as the
+// ring, where the baseline saw background too (the object's edge, moved, is not ice).
+HiddenBackground VolumeChain::Impl::hiddenBackground(const Surface& baseline, const Surface& current,
+                                                     const BaselineModel& model, const cv::Mat& objectInCurrent,
+                                                     const cv::Mat& currentRing, const RigidTransform& transform,
+                                                     std::optional<double> lightRatio) const {
+    HiddenBackground hidden;
+    if (!lightRatio || model.ringPx == 0) return hidden;
+    cv::Mat where = outlineRing(objectInCurrent, model.ringPx, parameters.edgeMarginPx);
+    where.setTo(0, model.objectGrown);
+    hidden.pixels = backgroundHidden(baseline.leftGrey, current.leftGrey, where, *lightRatio, parameters.outlineMinContrastGrey);
+    hidden.toBaseline = transform;
+    // Beads above a blade on a table, read by the matcher as the table behind them, read -44 to
+    // -71 % and `ok` outside their bars before the table they hide told them.
+    hidden.unread = unreadBackground(hidden.pixels, model.ringMeasurable, currentRing, model.featureless);
+    return hidden;
+}
+
+// Left out as background where the object's texture was as featureless as the sky, the surface is
+// measured nowhere; ice that appears there is outside everything the chain reads.
+std::optional<std::string> VolumeChain::Impl::leftOutBackgroundProblem(const Surface& baseline, const Surface& current,
+                                                                       const BaselineModel& model,
+                                                                       const cv::Mat& objectInCurrent,
+                                                                       std::optional<double> lightRatio) const {
+    if (!lightRatio || polygonRoi.empty() || baseline.outlineBackgroundPercent <= 0) return std::nullopt;
+    cv::Mat leftOut = leftOutBackground(polygonRoi, baseline.roi, objectInCurrent, model.ringPx);
+    cv::Mat inBoth = cv::Mat::zeros(leftOut.size(), CV_8U);
+    inBoth(baseline.matchedWindow & current.matchedWindow & cv::Rect({}, leftOut.size())).setTo(255);
+    leftOut &= inBoth;
+    const cv::Mat appeared =
+        backgroundHidden(baseline.leftGrey, current.leftGrey, leftOut, *lightRatio, parameters.outlineMinContrastGrey);
+    const int appearedPx = cv::countNonZero(appeared);
+    if (appearedPx < parameters.trackStepPx * parameters.trackStepPx) return std::nullopt;
+    std::ostringstream reason;
+    reason.precision(3);
+    reason << "something appeared in what was left out of the drawn outline as background (" << appearedPx
+           << " pixels beyond the " << model.ringPx << " px ring around the region; " << baseline.outlineBackgroundPercent
+           << " % of the outline was left out): ice on a part of the object whose texture is too faint to "
+              "tell from its background, which the region does not hold; draw the outline on the object's "
+              "edge, or give it texture";
+    return reason.str();
+}
+
+// The volume's error budget (uncertainty.hpp), with what the captures' blur and the view's angle
+// add to it.
+void VolumeChain::Impl::budget(const ThicknessMap& map, const PlaneFrame& plane, const MotionEstimate& motion,
+                               const MatcherPush& push, const SeenThroughIce& seen, const Surface& current,
+                               const BaselineModel& model, const cv::Mat& objectInCurrent,
+                               VolumeResult& result) const {
+    const Parameters& p = parameters;
+    // Blurred captures spread every step of the ice: the more blurred of the two, as its outline shows.
+    const std::optional<double> currentBlur = outlineBlurPx(current.leftGrey, objectInCurrent, current.matchedWindow);
+    result.blurPx = std::max(model.blurPx.value_or(0.0), currentBlur.value_or(0.0));
+    // Seen at an angle the ice's edges occlude the surface behind them, as far as the surface's
+    // measurement reaches (the same reach the ice mask grew by).
+    const double fatteningPx = viewObliquityDeg(plane) > p.outlineMaxObliquityDeg
+                                   ? (p.slantedWindow ? p.slantedWindowRadiusPx : measurementReachPx())
+                                   : 0.0;
+    result.budget = volumeUncertainty(map, plane, motion, push,
+                                      {focalPx, baselineMm, plane.origin[2], fatteningPx, blurBeyondPixelsPx(result.blurPx)},
+                                      p, result.volumeMm3, seen);
+    result.uncertaintyMm3 = expandedUncertainty(result.budget, p.coverageFactor);
+    result.meanThicknessUncertaintyMm = result.areaMm2 > 0 ? result.uncertaintyMm3 / result.areaMm2 : 0.0;
+}
+
 VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& current) {
     const Parameters& p = impl_->parameters;
     VolumeResult result;
@@ -528,38 +730,11 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     if (!current.regionProblem.empty()) return refused(result, current.regionProblem);
 
     // --- gate on the images ---
-    if (cv::countNonZero(baseline.roi) == 0) return refused(result, "no region of interest in the baseline");
-    if (baseline.roiSegmented) {
-        // A segmented region that is the view rather than an object: it reaches most of the frame's edge.
-        if (const double edge = frameEdgeShare(baseline.roi); edge > kMaxSegmentedEdgeShare) {
-            std::ostringstream problem;
-            problem.precision(3);
-            problem << "the region found at the object's depth reaches " << 100.0 * edge
-                    << " % of the frame's edge: it is the view, not the object (a surface it lies on, or a "
-                       "featureless sky the matcher filled)"
-                    << kNoOutlineHint;
-            return refused(result, problem.str());
-        }
-    }
+    if (auto problem = regionProblem(baseline)) return refused(result, *problem);
     result.outlineBackgroundPercent = baseline.outlineBackgroundPercent;
     result.baselineContrast = baseline.quality.contrast;
     result.currentContrast = current.quality.contrast;
-    for (const auto& [surface, which] : {std::pair{&baseline, "baseline"}, std::pair{&current, "current"}}) {
-        if (auto problem = imageProblem(surface->quality, p, which)) {
-            // A segmented region may hold featureless sky the matcher filled with the object's depth.
-            return refused(result, *problem + (baseline.roiSegmented ? std::string(kNoOutlineHint) : ""));
-        }
-        if (surface == &current) {
-            if (auto problem = newSaturationProblem(baseline.quality, current.quality, p)) return refused(result, *problem);
-        }
-        if (surface->validPercent < p.minValidPercent) {
-            std::ostringstream reason;
-            reason.precision(3);
-            reason << "too few valid disparities in the " << which << " region: " << surface->validPercent
-                   << " % < " << p.minValidPercent << " %";
-            return refused(result, reason.str());
-        }
-    }
+    if (auto problem = imagesProblem(baseline, current, p)) return refused(result, *problem);
 
     // --- what the estimate needs of the baseline alone: kept with a baseline's surface ---
     const std::shared_ptr<const BaselineModel> model =
@@ -568,147 +743,36 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
         return refused(result, "too few baseline points in the region: " + std::to_string(model->measuredPoints));
     }
     const PlaneFrame& plane = model->plane;
-    const double depthMm = plane.origin[2];
     timer.lap("plane");
-    // A plane seen edge-on is not the object's surface: the region held more than the object (clouds
-    // behind an outline drawn as a box 30 px wide of a blade put it 29.9 m away at 89.4°), and the
-    // outline's rays met it kilometres off, a grid of 4852976 x 768945 nodes, and an error, not a
-    // reason. The renderer turns an object by at most 45° about each axis (60° about both at once).
-    if (const double obliquityDeg = viewObliquityDeg(plane); obliquityDeg > kMaxPlaneObliquityDeg) {
-        std::ostringstream reason;
-        reason.precision(3);
-        reason << "the region's surface is seen edge-on (" << obliquityDeg << "° out of the view, its plane "
-               << std::lround(depthMm) << " mm away, max " << kMaxPlaneObliquityDeg
-               << "°): the region holds more than the object, such as a background at other depths inside a "
-                  "loosely drawn outline; draw the outline on the object's edge";
-        return refused(result, reason.str());
-    }
+    if (auto problem = edgeOnProblem(plane)) return refused(result, *problem);
 
     // --- how the object moved: from the texture the ice did not change, in both eyes ---
-    const RectifiedCapture before{baseline.trackLeft, baseline.trackRight, baseline.disparity};
-    const RectifiedCapture after{current.trackLeft, current.trackRight, current.disparity};
-    const TextureTrackOptions trackOptions = textureTrackOptions(p);
-    // The trackers start from the object's image motion, found around the scene's global shift; a
-    // phase correlation can lock onto the wrong peak (bright ice that appeared, a repeated
-    // texture), so a shift larger than any motion the registration accepts is not believed and the
-    // search starts where the object was.
-    cv::Point2d shift = current.shiftFromBaselinePx
-                            ? *current.shiftFromBaselinePx
-                            : globalImageShift(baseline.leftGrey, current.leftGrey, baseline.roi);
-    if (cv::norm(shift) > p.maxRegistrationMm * impl_->focalPx / depthMm) shift = {0, 0};
-    const cv::Matx23d imageMotion =
-        objectImageMotion(baseline.leftGrey, current.leftGrey, baseline.roi, shift,
-                          confirmedShift(baseline.leftGrey, current.leftGrey, baseline.roi, shift));
-    const std::optional<double> lightRatio = backgroundLightRatio(
-        baseline.leftGrey, current.leftGrey, baseline.roi, baseline.matchedWindow, current.matchedWindow);
-    const std::vector<TextureTrack> tracks = trackTexture(model->samples, before, after,
-                                                          cv::Matx44d(impl_->calibration.Q), imageMotion, lightRatio, trackOptions);
+    const Impl::TrackedTexture tracked = impl_->trackCaptures(baseline, current, *model);
+    const std::vector<TextureTrack>& tracks = tracked.tracks;
     timer.lap("track");
-    MotionEvidenceOptions evidence;
-    evidence.minPairs = p.minEvidenceSamples;
-    evidence.minSupportSpanPercent = p.minSupportSpanPercent;
-    evidence.backgroundBandMm = p.backgroundBandMm;
-    evidence.maxObjectAloneLightSpread = p.maxObjectAloneLightSpreadPercent / 100.0;
-    evidence.lightRatio = lightRatio;
-    const double overlap = (2.0 * p.trackRadiusPx + 1) / p.trackStepPx;
-    evidence.fit.correlationFactor = std::max(1.0, overlap * overlap);
+    const MotionEvidenceOptions evidence = motionEvidenceOptions(p, tracked.lightRatio);
     const MotionEstimate motion = estimateMotion(tracks, plane, evidence);
-    result.objectLightShift = motion.objectLightShift;
-    result.objectLightSpread = motion.objectLightSpread;
-    int foundOnObject = 0;  // the object's texture found again, its look kept or not
-    for (const TextureTrack& t : tracks) {
-        if (t.state == TextureTrack::State::Unchanged) ++result.unchangedSamples;
-        if (t.state == TextureTrack::State::Changed && t.onObject) ++result.changedSamples;
-        if (t.state != TextureTrack::State::Untracked && t.onObject) ++foundOnObject;
-    }
-    result.textureInliers = motion.objectEvidence;
-    result.backgroundInliers = motion.backgroundEvidence;
-    result.registrationSource = motion.source;
-    result.supportSpanPercent = motion.supportSpanPercent;
+    recordEvidence(tracks, motion, result);
     timer.lap("register");
     if (!motion.ok) {
-        const std::string light =
-            motion.objectLightShifted ? "" : objectLightNote(tracks, lightRatio, trackOptions.maxBrightnessChange);
-        const std::string reason = light.empty() ? motion.reason : motion.reason + "; " + light;
-        // The scene's shift said the object left the matched box, and the region was not found
-        // there either: a guess, and one its texture found again where it was contradicts. A
-        // repeated texture (ridges of ice) gave a moved blade's shift a peak 241 px away, and the
-        // refusal told the operator to take a new baseline when the light on the blade was what
-        // failed; a blank blade under white ice, found neither in place nor 163 px away, was told
-        // it had moved out when nothing said how it moved.
-        if (!current.regionHint.empty() && foundOnObject < p.minEvidenceSamples) {
-            return refused(result, reason + "; or " + current.regionHint);
-        }
-        return refused(result, reason);
+        return refused(result, unregisteredReason(motion, tracks, tracked.lightRatio, tracked.options, current, p));
     }
     const RigidTransform& transform = motion.transform;
-    result.registrationMm = cv::norm(transform.apply(plane.origin) - plane.origin);
-    result.registrationDeg = std::acos(std::clamp((cv::trace(transform.rotation) - 1.0) / 2.0, -1.0, 1.0)) * 180.0 / kPi;
-    result.registrationRmsMm = std::sqrt(motion.chi2PerDof);
-    result.registration = transform;
+    recordRegistration(motion, plane, result);
     if (result.registrationMm > p.maxRegistrationMm) {
         return refused(result, "registration moved the object by " + std::to_string(result.registrationMm) +
                                    " mm, more than max_registration_mm");
     }
-    // --- texture too faint to rest the motion on the object alone ---
-    // A tone curve or a blur flattens the texture, and with it what a clear glaze does to its
-    // look: a change of light then cancels the rest, and the texture that kept its look may lie
-    // under a layer over all of the object. A background the object rests on fixes the motion
-    // without it.
-    if (motion.backgroundEvidence == 0) {
-        const bool baselineFaint = baseline.quality.contrast < p.minContrastObjectMotion;
-        if (baselineFaint || current.quality.contrast < p.minContrastObjectMotion) {
-            std::ostringstream reason;
-            reason.precision(3);
-            reason << "the motion between the captures is not observable: the " << (baselineFaint ? "baseline" : "current")
-                   << " image's texture is too faint to rest the motion on the object alone (contrast "
-                   << (baselineFaint ? baseline.quality.contrast : current.quality.contrast) << " < "
-                   << p.minContrastObjectMotion
-                   << ": a tone curve or a blur flattens it, and what a clear glaze over all of the object does to its "
-                      "look, so that a change of light may cancel the rest), and no background it rests on was found";
-            return refused(result, reason.str());
-        }
+    if (auto problem = faintTextureProblem(baseline, current, motion, p)) return refused(result, *problem);
+    if (auto problem = impl_->outlineGrowthProblem(baseline, current, *model, motion, result)) {
+        return refused(result, *problem);
     }
-    // --- the outline against the sky: a layer of ice over its edges too ---
-    // A layer over the whole object wraps its edges as well, and the texture that kept its look
-    // under it (a clear glaze brightening it as much as the sun dimmed) moved with the layer's
-    // surface: the outline grown on both long sides says so where the texture cannot.
-    if (!model->featureless.empty()) {
-        OutlineGrowthOptions growthOptions;
-        growthOptions.blurPx = model->blurPx.value_or(0.0);
-        const OutlineGrowth growth =
-            outlineGrowth(baseline.leftGrey, current.leftGrey, baseline.roi, model->featureless, plane, transform,
-                          impl_->projection.get_minor<3, 3>(0, 0), baseline.matchedWindow & current.matchedWindow,
-                          growthOptions);
-        result.outlineGrowthMm = growth.medianMm;
-        result.outlineGrowthStations = growth.stations;
-        if (growth.bothSidesChanged && motion.backgroundEvidence == 0) {
-            std::ostringstream reason;
-            reason.precision(3);
-            reason << "the motion between the captures is not observable: the outline changed against the sky on both "
-                      "long sides beyond the motion the object's texture gives (the width it covers by "
-                   << growth.medianMm[0] << " and " << growth.medianMm[1] << " mm at the median of " << growth.stations[0]
-                   << " and " << growth.stations[1]
-                   << " places): ice over its edges too, or a motion that is not the object's, so the texture that kept "
-                      "its look may lie under a layer over all of the object, and no background it rests on was found";
-            return refused(result, reason.str());
-        }
-    }
-    // Grown by the reach of the surface's measurement around the ice: the slanted window's, or
-    // without it the matcher's aggregation, which spreads the ice's disparity 35 px around it.
-    const int reachPx = p.slantedWindow ? p.iceMaskGrowPx
-                                        : std::max(p.iceMaskGrowPx, matcherReachPx(p.stereoMethod, impl_->matcher.parameters()));
-    const cv::Mat possibleIce = iceMask(baseline.roi, tracks, motion.clean, p.trackStepPx, reachPx);
+
+    // --- where the ice may be, and how far the matcher pushed the clean surface beside it ---
+    const cv::Mat possibleIce = iceMask(baseline.roi, tracks, motion.clean, p.trackStepPx, impl_->measurementReachPx());
     result.iceMaskPercent = 100.0 * cv::countNonZero(possibleIce) / std::max(1, cv::countNonZero(baseline.roi));
-    // The matcher against the tracks on the clean texture beside the ice, and on every texture
-    // found again (under a clear layer too, where no clean texture is left): the larger counts.
-    std::vector<std::uint8_t> found(tracks.size(), 0);
-    for (std::size_t i = 0; i < tracks.size(); ++i) found[i] = tracks[i].state != TextureTrack::State::Untracked;
-    const MatcherPush onClean = matcherPush(tracks, motion.clean, baseline.disparity, current.disparity, possibleIce,
-                                            evidence.fit.correlationFactor);
-    const MatcherPush onFound = matcherPush(tracks, found, baseline.disparity, current.disparity, possibleIce,
-                                            evidence.fit.correlationFactor);
-    const MatcherPush& push = std::abs(onFound.meanPx) > std::abs(onClean.meanPx) ? onFound : onClean;
+    const MatcherPush push =
+        strongerPush(tracks, motion, baseline, current, possibleIce, evidence.fit.correlationFactor);
     result.matcherPushPx = push.meanPx;
     result.matcherPushSigmaPx = push.sigmaPx;
 
@@ -716,41 +780,12 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     // Inside the outline off its mixed edge, and the ring around it where ice may stand out of it.
     const cv::Mat currentOutline = outlineInCurrent(baseline.roi, plane, transform, impl_->projection, p.edgeMarginPx);
     const cv::Mat objectInCurrent = outlineInCurrent(baseline.roi, plane, transform, impl_->projection, 0);
+    const RectifiedCapture after{current.trackLeft, current.trackRight, current.disparity};
     const cv::Mat currentRing = measurableRing(after, outlineRing(objectInCurrent, model->ringPx, p.edgeMarginPx), p);
-    // And what the current capture hides of the background beside the outline, off its mixed
-    // edge as the ring, where the baseline saw background too (the object's edge, moved, is not ice).
-    HiddenBackground hidden;
-    if (lightRatio && model->ringPx > 0) {
-        cv::Mat where = outlineRing(objectInCurrent, model->ringPx, p.edgeMarginPx);
-        where.setTo(0, model->objectGrown);
-        hidden.pixels = backgroundHidden(baseline.leftGrey, current.leftGrey, where, *lightRatio, p.outlineMinContrastGrey);
-        hidden.toBaseline = transform;
-        // Beads above a blade on a table, read by the matcher as the table behind them, read -44
-        // to -71 % and `ok` outside their bars before the table they hide told them.
-        hidden.unread = unreadBackground(hidden.pixels, model->ringMeasurable, currentRing, model->featureless);
-    }
-    // --- what the drawn outline's left-out background hides now ---
-    // Left out as background where the object's texture was as featureless as the sky, the surface
-    // is measured nowhere; ice that appears there is outside everything the chain reads.
-    if (lightRatio && !impl_->polygonRoi.empty() && baseline.outlineBackgroundPercent > 0) {
-        cv::Mat leftOut = leftOutBackground(impl_->polygonRoi, baseline.roi, objectInCurrent, model->ringPx);
-        cv::Mat inBoth = cv::Mat::zeros(leftOut.size(), CV_8U);
-        inBoth(baseline.matchedWindow & current.matchedWindow & cv::Rect({}, leftOut.size())).setTo(255);
-        leftOut &= inBoth;
-        const cv::Mat appeared =
-            backgroundHidden(baseline.leftGrey, current.leftGrey, leftOut, *lightRatio, p.outlineMinContrastGrey);
-        const int appearedPx = cv::countNonZero(appeared);
-        if (appearedPx >= p.trackStepPx * p.trackStepPx) {
-            std::ostringstream reason;
-            reason.precision(3);
-            reason << "something appeared in what was left out of the drawn outline as background ("
-                   << appearedPx << " pixels beyond the " << model->ringPx
-                   << " px ring around the region; " << baseline.outlineBackgroundPercent
-                   << " % of the outline was left out): ice on a part of the object whose texture is too faint to "
-                      "tell from its background, which the region does not hold; draw the outline on the object's "
-                      "edge, or give it texture";
-            return refused(result, reason.str());
-        }
+    const HiddenBackground hidden =
+        impl_->hiddenBackground(baseline, current, *model, objectInCurrent, currentRing, transform, tracked.lightRatio);
+    if (auto problem = impl_->leftOutBackgroundProblem(baseline, current, *model, objectInCurrent, tracked.lightRatio)) {
+        return refused(result, *problem);
     }
     const PlaneClouds clouds =
         planeClouds(model->cloud, model->ring, points(current), currentOutline, currentRing, plane, transform, p);
@@ -771,84 +806,29 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     const ThicknessMap map =
         thicknessMap(*region.grid, clouds, baseline.roi, model->ringMask, possibleIce, plane, k, p, hidden,
                      seenThroughPixels(baseline.roi, tracks, p.trackStepPx, motion.objectLightShifted));
-    if (map.insideNodes == 0) return refused(result, "the region covers no part of the measured surface");
-    if (const std::optional<std::string> problem = ringEdgeProblem(map, p)) return refused(result, *problem);
+    if (auto problem = thicknessMapProblem(map, p)) return refused(result, *problem);
     result.filledPercent = 100.0 * map.filledNodes / std::max(1, map.iceNodes);
     timer.lap("grid");
-    if (result.filledPercent > p.maxFilledPercent) {
-        std::ostringstream reason;
-        reason.precision(3);
-        reason << result.filledPercent << " % of the region has no measurement (max " << p.maxFilledPercent << " %)";
-        return refused(result, reason.str());
-    }
+    if (auto problem = filledProblem(result.filledPercent, p)) return refused(result, *problem);
 
-    // --- integrate; ice the texture was seen through, the matcher read as low as refraction shows it ---
-    const IceSummary ice = summarise(map, p.integration);
+    // --- integrate ---
     const SeenThroughIce seen = seenThroughIce(map);
-    result.volumeMm3 = ice.volumeMm3 + seenThroughShareMm3(seen);
-    result.seenThroughMm3 = seen.readMm3;
-    result.glimpsedThroughMm3 = seen.glimpsedReadMm3;
-    result.areaMm2 = ice.areaMm2;
-    result.iceAreaMm2 = ice.iceAreaMm2;
-    result.beyondOutlineMm3 = ice.beyondOutlineMm3;
-    result.beyondOutlineAreaMm2 = ice.beyondOutlineAreaMm2;
-    result.meanThicknessMm = ice.areaMm2 > 0 ? result.volumeMm3 / ice.areaMm2 : 0.0;
-    result.maxThicknessMm = ice.maxThicknessMm;
+    const IceSummary ice = integrateIce(map, seen, p, result);
     timer.lap("integrate");
 
     // --- uncertainty ---
-    // Blurred captures spread every step of the ice: the more blurred of the two, as its outline shows.
-    const std::optional<double> currentBlur = outlineBlurPx(current.leftGrey, objectInCurrent, current.matchedWindow);
-    result.blurPx = std::max(model->blurPx.value_or(0.0), currentBlur.value_or(0.0));
-    // Seen at an angle the ice's edges occlude the surface behind them, as far as the surface's
-    // measurement reaches (the same reach the ice mask grew by).
-    const double fatteningPx = viewObliquityDeg(plane) > p.outlineMaxObliquityDeg
-                                   ? (p.slantedWindow ? p.slantedWindowRadiusPx : reachPx)
-                                   : 0.0;
-    result.budget = volumeUncertainty(map, plane, motion, push,
-                                      {impl_->focalPx, impl_->baselineMm, depthMm, fatteningPx,
-                                       blurBeyondPixelsPx(result.blurPx)},
-                                      p,
-                                      result.volumeMm3, seen);
-    result.uncertaintyMm3 = expandedUncertainty(result.budget, p.coverageFactor);
-    result.meanThicknessUncertaintyMm = ice.areaMm2 > 0 ? result.uncertaintyMm3 / ice.areaMm2 : 0.0;
+    impl_->budget(map, plane, motion, push, seen, current, *model, objectInCurrent, result);
     timer.lap("uncertainty");
     if (auto problem = outlineObliquityProblem(map, plane, result, p)) return refused(result, *problem);
 
     // --- for people (core/pictures draws it) ---
-    const cv::Matx33d kInv = k.inv();
     result.thicknessImageMm =
-        thicknessInImage(ice.smoothedMm, map.grid, plane, transform, kInv, currentOutline | currentRing);
-    const GridSpec& grid = map.grid;
-    for (int y = 0; y < clouds.current.rows; ++y)
-        for (int x = 0; x < clouds.current.cols; ++x) {
-            const cv::Vec3d local = clouds.current.at<cv::Vec3d>(y, x);
-            if (std::isnan(local[2])) continue;
-            const int i = static_cast<int>(std::lround((local[0] - grid.u0) / grid.du));
-            const int j = static_cast<int>(std::lround((local[1] - grid.v0) / grid.dv));
-            const bool onGrid = i >= 0 && j >= 0 && i < grid.nu && j < grid.nv;
-            result.cloudMm.push_back(cv::Vec3f(plane.toCamera(local[0], local[1], local[2])));
-            result.cloudThicknessMm.push_back(onGrid ? static_cast<float>(map.thickness.at<double>(j, i)) : 0.0f);
-        }
-    // --- ice whose depth the rows could not tell: carried over from around it, not measured ---
-    const RowTextureOptions rowTexture;
-    cv::Mat baselineObject;
-    cv::erode(baseline.roi, baselineObject,
-              cv::getStructuringElement(cv::MORPH_ELLIPSE, {2 * p.edgeMarginPx + 1, 2 * p.edgeMarginPx + 1}));
-    const FaintIce faint = faintIce({baseline.leftGrey, current.leftGrey, baseline.leftNoise, current.leftNoise, baselineObject,
-                                     [&](cv::Point2d px) { return planePixelInCurrent(px, plane, transform, k).at; },
-                                     lightRatio.value_or(1.0), result.thicknessImageMm},
-                                    rowTexture);
-    result.faintIcePercent = 100.0 * faint.share();
-    if (faint.unmeasured(rowTexture)) {
-        std::ostringstream reason;
-        reason.precision(3);
-        reason << "the ice's thickness is not measured: " << result.faintIcePercent << " % of the "
-               << faint.icePixels << " pixels where ice was read or the object's texture was lost carry less texture along the image rows than "
-               << rowTexture.minGreyPerPx
-               << " grey levels per pixel (a blur, a tone curve or smooth, plain ice), so the matcher carried the depth of "
-                  "the surface around it over it and the ice may be much thicker than read";
-        return refused(result, reason.str());
+        thicknessInImage(ice.smoothedMm, map.grid, plane, transform, k.inv(), currentOutline | currentRing);
+    recordCloud(clouds, map, plane, result);
+
+    // --- the gate on what the rows could not tell ---
+    if (auto problem = faintIceProblem(baseline, current, plane, transform, k, tracked.lightRatio, p, result)) {
+        return refused(result, *problem);
     }
     result.ok = true;
     timer.lap("gate");
