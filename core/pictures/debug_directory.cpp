@@ -51,6 +51,9 @@ void writeDebugDirectory(const MeasurementPictures& pictures, const volume::Volu
     if (!pictures.disparity.empty()) writePicture(dir / "disparity.png", pictures.disparity);
     if (!pictures.thickness.empty()) writePicture(dir / "thickness.png", pictures.thickness);
     if (result.ok) writeCloud(result, scale, dir / "cloud.ply");
+    // The thickness the picture shows, as numbers (a float PFM, NaN where none, signed): to hold
+    // against a rendered scene's truth_ice_mm.pfm, pixel by pixel.
+    if (result.ok && !result.thicknessImageMm.empty()) writePicture(dir / "thickness_mm.pfm", result.thicknessImageMm);
 }
 
 }  // namespace icewatch::pictures

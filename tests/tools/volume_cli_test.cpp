@@ -268,6 +268,13 @@ TEST(VolumeCli, AMeasuredSceneWritesItsPicturesAndCloud) {
     }
     const cv::Mat thickness = cv::imread((debug / "thickness.png").string());
     EXPECT_GT(thickness.cols, 320) << "the picture and its colour bar";
+    // The same thickness as numbers, in the left eye's pixels, measured somewhere and NaN elsewhere.
+    const cv::Mat thicknessMm = cv::imread((debug / "thickness_mm.pfm").string(), cv::IMREAD_UNCHANGED);
+    ASSERT_EQ(thicknessMm.type(), CV_32FC1);
+    EXPECT_EQ(thicknessMm.size(), cv::imread((debug / "left.png").string()).size());
+    const auto nan = std::count_if(thicknessMm.begin<float>(), thicknessMm.end<float>(), [](float t) { return std::isnan(t); });
+    EXPECT_GT(nan, 0) << "NaN outside the region";
+    EXPECT_LT(nan, static_cast<long>(thicknessMm.total())) << "measured inside it";
     // Writing into a directory that holds results needs --force.
     const auto again = test::runProgram({icewatchBin(), "volume", "--scene", dir.string(), "--stereo-method", "sgbm",
                                          "--debug-dir", debug.string()});

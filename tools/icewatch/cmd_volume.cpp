@@ -121,8 +121,9 @@ void addVolumeCommand(CLI::App& app, const GlobalOptions& /*global*/, RunFunctio
     cmd->add_option("--method", o->method, "integration: trapz (default) or sum")->check(CLI::IsMember({"trapz", "sum"}));
     cmd->add_option("--stereo-method", o->stereoMethod, "matcher: paper, adcensus or sgbm (default: configuration)");
     cmd->add_option("--config", o->config, "configuration file whose \"volume\" and \"stereo\" sections to use");
-    cmd->add_option("--debug-dir", o->debugDir, "write left.png, disparity.png, thickness.png (refused too, with the reason), cloud.ply and both "
-                    "captures' disparities as measured (disparity_baseline.pfm, disparity_current.pfm) here");
+    cmd->add_option("--debug-dir", o->debugDir, "write left.png, disparity.png, thickness.png (refused too, with the reason), cloud.ply, both "
+                    "captures' disparities as measured (disparity_baseline.pfm, disparity_current.pfm) and the "
+                    "thickness where it lies in the current left eye (thickness_mm.pfm, NaN where none) here");
     cmd->add_flag("--json", o->json, "print the result as one JSON object");
     addForceFlag(*cmd, o->force);
     cmd->add_flag("--compare-full-frame", o->compareFullFrame,
