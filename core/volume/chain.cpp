@@ -730,11 +730,11 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     if (!current.regionProblem.empty()) return refused(result, current.regionProblem);
 
     // --- gate on the images ---
-    if (auto problem = regionProblem(baseline)) return refused(result, *problem);
+    if (auto problem = baselineRegionProblem(baseline)) return refused(result, *problem);
     result.outlineBackgroundPercent = baseline.outlineBackgroundPercent;
     result.baselineContrast = baseline.quality.contrast;
     result.currentContrast = current.quality.contrast;
-    if (auto problem = imagesProblem(baseline, current, p)) return refused(result, *problem);
+    if (auto problem = capturesProblem(baseline, current, p)) return refused(result, *problem);
 
     // --- what the estimate needs of the baseline alone: kept with a baseline's surface ---
     const std::shared_ptr<const BaselineModel> model =

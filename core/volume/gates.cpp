@@ -30,7 +30,7 @@ constexpr double kMaxPlaneObliquityDeg = 75.0;
 }  // namespace
 
 // The baseline's region: there, and the object rather than the view.
-std::optional<std::string> regionProblem(const Surface& baseline) {
+std::optional<std::string> baselineRegionProblem(const Surface& baseline) {
     if (cv::countNonZero(baseline.roi) == 0) return "no region of interest in the baseline";
     if (!baseline.roiSegmented) return std::nullopt;
     // A segmented region that is the view rather than an object: it reaches most of the frame's edge.
@@ -46,7 +46,7 @@ std::optional<std::string> regionProblem(const Surface& baseline) {
 }
 
 // Either capture's images: exposure, contrast, new clipping, and enough valid disparities.
-std::optional<std::string> imagesProblem(const Surface& baseline, const Surface& current, const Parameters& p) {
+std::optional<std::string> capturesProblem(const Surface& baseline, const Surface& current, const Parameters& p) {
     for (const auto& [surface, which] : {std::pair{&baseline, "baseline"}, std::pair{&current, "current"}}) {
         if (auto problem = imageProblem(surface->quality, p, which)) {
             // A segmented region may hold featureless sky the matcher filled with the object's depth.

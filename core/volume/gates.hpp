@@ -18,11 +18,11 @@ namespace icewatch::volume {
 // VolumeChain::estimate calls them in this order, each as soon as what it judges is known.
 
 // The baseline's region: there at all, and the object rather than the view.
-std::optional<std::string> regionProblem(const Surface& baseline);
+std::optional<std::string> baselineRegionProblem(const Surface& baseline);
 
 // Either capture's images (image_quality.hpp): exposure, contrast, clipping new in the current
 // capture, and enough valid disparities in the region.
-std::optional<std::string> imagesProblem(const Surface& baseline, const Surface& current, const Parameters& p);
+std::optional<std::string> capturesProblem(const Surface& baseline, const Surface& current, const Parameters& p);
 
 // The baseline's plane seen edge-on: the region holds more than the object.
 std::optional<std::string> edgeOnProblem(const PlaneFrame& plane);
