@@ -200,7 +200,7 @@ struct VolumeChain::Impl {
                                                     VolumeResult& result) const;
     int measurementReachPx() const;
     HiddenBackground hiddenBackground(const Surface& baseline, const Surface& current, const BaselineModel& model,
-                                      const cv::Mat& objectInCurrent, const cv::Mat& currentRing,
+                                      const cv::Mat& ringInCurrent, const cv::Mat& currentRing,
                                       const RigidTransform& transform, std::optional<double> lightRatio) const;
     std::optional<std::string> leftOutBackgroundProblem(const Surface& baseline, const Surface& current,
                                                         const BaselineModel& model, const cv::Mat& objectInCurrent,
@@ -653,15 +653,16 @@ int VolumeChain::Impl::measurementReachPx() const {
     return p.slantedWindow ? p.iceMaskGrowPx : std::max(p.iceMaskGrowPx, matcherReachPx(p.stereoMethod, matcher.parameters()));
 }
 
-// What the current capture hides of the background beside the outline, off its mixed edge as the
-// ring, where the baseline saw background too (the object's edge, moved, is not ice).
+// What the current capture hides of the background in the ring around its outline (`ringInCurrent`,
+// off the outline's mixed edge), where the baseline saw background too (the object's edge, moved,
+// is not ice).
 HiddenBackground VolumeChain::Impl::hiddenBackground(const Surface& baseline, const Surface& current,
-                                                     const BaselineModel& model, const cv::Mat& objectInCurrent,
+                                                     const BaselineModel& model, const cv::Mat& ringInCurrent,
                                                      const cv::Mat& currentRing, const RigidTransform& transform,
                                                      std::optional<double> lightRatio) const {
     HiddenBackground hidden;
     if (!lightRatio || model.ringPx == 0) return hidden;
-    cv::Mat where = outlineRing(objectInCurrent, model.ringPx, parameters.edgeMarginPx);
+    cv::Mat where = ringInCurrent.clone();
     where.setTo(0, model.objectGrown);
     hidden.pixels = backgroundHidden(baseline.leftGrey, current.leftGrey, where, *lightRatio, parameters.outlineMinContrastGrey);
     hidden.toBaseline = transform;
@@ -781,9 +782,10 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     const cv::Mat currentOutline = outlineInCurrent(baseline.roi, plane, transform, impl_->projection, p.edgeMarginPx);
     const cv::Mat objectInCurrent = outlineInCurrent(baseline.roi, plane, transform, impl_->projection, 0);
     const RectifiedCapture after{current.trackLeft, current.trackRight, current.disparity};
-    const cv::Mat currentRing = measurableRing(after, outlineRing(objectInCurrent, model->ringPx, p.edgeMarginPx), p);
+    const cv::Mat ringInCurrent = outlineRing(objectInCurrent, model->ringPx, p.edgeMarginPx);
+    const cv::Mat currentRing = measurableRing(after, ringInCurrent, p);
     const HiddenBackground hidden =
-        impl_->hiddenBackground(baseline, current, *model, objectInCurrent, currentRing, transform, tracked.lightRatio);
+        impl_->hiddenBackground(baseline, current, *model, ringInCurrent, currentRing, transform, tracked.lightRatio);
     if (auto problem = impl_->leftOutBackgroundProblem(baseline, current, *model, objectInCurrent, tracked.lightRatio)) {
         return refused(result, *problem);
     }
