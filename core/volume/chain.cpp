@@ -39,6 +39,7 @@
 #include "core/volume/height_grid.hpp"
 #include "core/volume/ice_mask.hpp"
 #include "core/volume/image_motion.hpp"
+#include "core/volume/lost_texture.hpp"
 #include "core/volume/matcher_push.hpp"
 #include "core/volume/motion_evidence.hpp"
 #include "core/volume/outline_growth.hpp"
@@ -550,13 +551,15 @@ void recordRegistration(const MotionEstimate& motion, const PlaneFrame& plane, V
 
 // The matcher against the tracks on the clean texture beside the ice, and on every texture found
 // again (under a clear layer too, where no clean texture is left): the larger of the two.
+// `checkedSamples`: how many samples the second rests on (the first's are among them).
 MatcherPush strongerPush(const std::vector<TextureTrack>& tracks, const MotionEstimate& motion,
                          const Surface& baseline, const Surface& current, const cv::Mat& possibleIce,
-                         double correlationFactor) {
+                         double correlationFactor, int& checkedSamples) {
     std::vector<std::uint8_t> found(tracks.size(), 0);
     for (std::size_t i = 0; i < tracks.size(); ++i) found[i] = tracks[i].state != TextureTrack::State::Untracked;
     MatcherPush onClean = matcherPush(tracks, motion.clean, baseline.disparity, current.disparity, possibleIce, correlationFactor);
     MatcherPush onFound = matcherPush(tracks, found, baseline.disparity, current.disparity, possibleIce, correlationFactor);
+    checkedSamples = onFound.samples;
     return std::abs(onFound.meanPx) > std::abs(onClean.meanPx) ? onFound : onClean;
 }
 
@@ -772,8 +775,9 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     // --- where the ice may be, and how far the matcher pushed the clean surface beside it ---
     const cv::Mat possibleIce = iceMask(baseline.roi, tracks, motion.clean, p.trackStepPx, impl_->measurementReachPx());
     result.iceMaskPercent = 100.0 * cv::countNonZero(possibleIce) / std::max(1, cv::countNonZero(baseline.roi));
+    int pushSamples = 0;
     const MatcherPush push =
-        strongerPush(tracks, motion, baseline, current, possibleIce, evidence.fit.correlationFactor);
+        strongerPush(tracks, motion, baseline, current, possibleIce, evidence.fit.correlationFactor, pushSamples);
     result.matcherPushPx = push.meanPx;
     result.matcherPushSigmaPx = push.sigmaPx;
 
@@ -813,6 +817,9 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
     timer.lap("grid");
     if (auto problem = filledProblem(result.filledPercent, p)) return refused(result, *problem);
 
+    // The push (above) measured, or the matcher's surface where the ice may be is not known.
+    if (auto problem = uncheckedPushProblem(pushSamples, p)) return refused(result, *problem);
+
     // --- integrate ---
     const SeenThroughIce seen = seenThroughIce(map);
     const IceSummary ice = integrateIce(map, seen, p, result);
@@ -828,8 +835,14 @@ VolumeResult VolumeChain::estimate(const Surface& baseline, const Surface& curre
         thicknessInImage(ice.smoothedMm, map.grid, plane, transform, k.inv(), currentOutline | currentRing);
     recordCloud(clouds, map, plane, result);
 
-    // --- the gate on what the rows could not tell ---
-    if (auto problem = faintIceProblem(baseline, current, plane, transform, k, tracked.lightRatio, p, result)) {
+    // --- the gate on what the rows could not tell, and what hid the texture where stereo cannot read it ---
+    // Without a draw of its noise a capture's rows cannot tell texture from noise (row_texture.hpp).
+    const cv::Mat unreadLost =
+        current.leftNoise.empty()
+            ? unreadLostTexture(tracks, after, [&](cv::Point2d px) { return planePixelInCurrent(px, plane, transform, k).at; },
+                                tracked.options)
+            : cv::Mat();
+    if (auto problem = faintIceProblem(baseline, current, plane, transform, k, tracked.lightRatio, unreadLost, p, result)) {
         return refused(result, *problem);
     }
     result.ok = true;

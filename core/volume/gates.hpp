@@ -43,10 +43,16 @@ std::optional<std::string> filledProblem(double filledPercent, const Parameters&
 std::optional<std::string> outlineObliquityProblem(const ThicknessMap& map, const PlaneFrame& plane,
                                                    const VolumeResult& result, const Parameters& p);
 
-// Ice on rows too plain for the matcher to tell its depth (row_texture.hpp). Sets
+// The matcher's surface where the ice may be, unchecked: fewer of the object's texture samples
+// there found again in both eyes (`samples`, matcher_push.hpp) than a motion may rest on.
+std::optional<std::string> uncheckedPushProblem(int samples, const Parameters& p);
+
+// Ice on rows too plain for the matcher to tell its depth (row_texture.hpp); `unreadLost` where
+// the texture was lost and stereo cannot read what hid it (lost_texture.hpp; may be empty). Sets
 // result.faintIcePercent; reads result.thicknessImageMm.
 std::optional<std::string> faintIceProblem(const Surface& baseline, const Surface& current, const PlaneFrame& plane,
                                            const RigidTransform& transform, const cv::Matx33d& k,
-                                           std::optional<double> lightRatio, const Parameters& p, VolumeResult& result);
+                                           std::optional<double> lightRatio, const cv::Mat& unreadLost,
+                                           const Parameters& p, VolumeResult& result);
 
 }  // namespace icewatch::volume

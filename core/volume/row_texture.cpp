@@ -83,6 +83,7 @@ FaintIce faintIce(const RowTextureInputs& in, const RowTextureOptions& o) {
     const cv::Size size = in.currentGrey.size();
     CV_Assert(in.baselineGrey.size() == size && in.baselineObject.size() == size && in.thicknessMm.size() == size);
     CV_Assert(in.thicknessMm.type() == CV_32FC1 && in.baselineObject.type() == CV_8UC1);
+    CV_Assert(in.unreadLost.empty() || (in.unreadLost.size() == size && in.unreadLost.type() == CV_8UC1));
     // Without a noise draw the noise is the image's, wherever on the object it is read (the object moved little).
     const cv::Mat before = captureRowTexture(in.baselineGrey, in.baselineNoise, in.baselineObject, o.radiusPx);
     const cv::Mat now = captureRowTexture(in.currentGrey, in.currentNoise, in.baselineObject, o.radiusPx);
@@ -99,6 +100,13 @@ FaintIce faintIce(const RowTextureInputs& in, const RowTextureOptions& o) {
             const float has = now.at<float>(v, u);
             if (had[x] >= o.minGreyPerPx && has < o.minGreyPerPx && has < 0.5 * in.lightRatio * had[x]) lost.at<std::uint8_t>(v, u) = 255;
         }
+    }
+    if (!in.unreadLost.empty()) {
+        // Where ice was read, something placed it (a block's plain top is carried from its edges);
+        // where none was, the matcher carried the blade's surface over what hid its texture.
+        cv::Mat readThick;
+        cv::compare(in.thicknessMm, o.minIceMm, readThick, cv::CMP_GE);  // NaN compares false
+        lost |= in.unreadLost & ~readThick;
     }
     FaintIce out;
     for (int y = 0; y < size.height; ++y) {

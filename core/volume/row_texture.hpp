@@ -71,6 +71,11 @@ struct RowTextureInputs {
     std::function<cv::Point2d(cv::Point2d)> toCurrent;
     double lightRatio = 1.0;
     cv::Mat thicknessMm;
+    // The current capture's pixels where the trackers lost the object's texture and the current
+    // capture's stereo cannot read what hid it (unreadLostTexture, CV_8U; may be empty): where no
+    // ice was read there, lost too, whatever the rows' texture seems to be. The chain gives it for
+    // a capture without a noise draw (a single frame), whose noise passes for texture.
+    cv::Mat unreadLost;
 };
 
 // Where ice may be, in the current capture's pixels: where ice at least minIceMm thick was read,
@@ -79,7 +84,8 @@ struct RowTextureInputs {
 // that the light's change leaves, the current capture less than minGreyPerPx). Of those, the
 // faint: lost, or read with less texture along the rows than minGreyPerPx. Each image's noise is
 // its own: the power its noise draw shows, or without one white noise at the level its second
-// differences give over the baseline's object.
+// differences give over the baseline's object. The pixels of `unreadLost` where no ice was read
+// (under minIceMm) are lost as well.
 FaintIce faintIce(const RowTextureInputs& in, const RowTextureOptions& options);
 
 }  // namespace icewatch::volume

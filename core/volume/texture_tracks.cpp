@@ -68,6 +68,7 @@ TextureTrack trackOne(const RectifiedCapture& baseline, const RectifiedCapture& 
     out.pixel = at;
     out.onObject = onObject;
     if (std::isnan(disparity)) return out;
+    out.inBaseline = true;
     PatchTrackOptions temporal = o.patch;
     temporal.searchPx = o.temporalSearchPx;
     const PatchTrack left = trackPatch(baseline.left, current.left, at, prior, temporal);

@@ -55,6 +55,7 @@ struct TextureTrack {
     };
     cv::Point pixel;          // baseline left rectified pixel
     bool onObject = false;    // inside the object's outline (else background)
+    bool inBaseline = false;  // the baseline's own stereo track found it: texture there to follow
     State state = State::Untracked;
     cv::Vec3d baselineMm;     // left rectified camera frame
     cv::Vec3d currentMm;

@@ -98,6 +98,15 @@ TEST(Gates, AGridFilledBeyondItsLimitIsRefusedAndAtItIsNot) {
     EXPECT_NE(over->find("has no measurement"), std::string::npos) << *over;
 }
 
+TEST(Gates, AMatchersSurfaceNoTextureChecksIsRefused) {
+    Parameters p;
+    const auto unchecked = uncheckedPushProblem(p.minEvidenceSamples - 1, p);
+    ASSERT_TRUE(unchecked.has_value());
+    EXPECT_NE(unchecked->find("cannot be checked: " + std::to_string(p.minEvidenceSamples - 1)), std::string::npos)
+        << *unchecked;
+    EXPECT_FALSE(uncheckedPushProblem(p.minEvidenceSamples, p).has_value());
+}
+
 TEST(Gates, IceBeyondTheOutlineOfAnObjectTurnedOutOfTheViewIsRefused) {
     const Parameters p;
     const PlaneFrame turned = planeTurnedBy(p.outlineMaxObliquityDeg + 10);

@@ -100,7 +100,7 @@ cv::Mat noThickness(cv::Size size) { return {size, CV_32F, cv::Scalar(std::numer
 RowTextureInputs unmoved(const cv::Mat& baseline, const cv::Mat& current, const cv::Mat& thickness) {
     cv::Mat object = cv::Mat::zeros(baseline.size(), CV_8U);
     object(cv::Rect(20, 20, 160, 80)).setTo(255);
-    return {baseline, current, {}, {}, object, [](cv::Point2d px) { return px; }, 1.0, thickness};
+    return {baseline, current, {}, {}, object, [](cv::Point2d px) { return px; }, 1.0, thickness, {}};
 }
 
 TEST(RowTexture, IceReadWhereItsRowsCarryNoTextureIsFaint) {
@@ -154,6 +154,30 @@ TEST(RowTexture, TextureLostWhereNoIceWasReadIsFaintIce) {
     dimmed.lightRatio = 0.5;
     const FaintIce dim = faintIce(dimmed, options);
     EXPECT_EQ(dim.lostPixels, 0);
+}
+
+// Where stereo could not read what hid the texture (lost_texture.hpp) and no ice was read, the
+// ice is lost whatever the rows' texture seems to be: a single frame's noise passes for texture.
+// Where ice was read, something placed it, and its rows are judged as anywhere.
+TEST(RowTexture, WhatStereoCouldNotReadWhereTheTextureWentAndNoIceWasReadIsLost) {
+    const cv::Mat image = shadedImage(2.0, 200, 0.5, 7);  // texture along the rows everywhere
+    const RowTextureOptions options;
+    RowTextureInputs inputs = unmoved(image, image, noThickness(image.size()));
+    EXPECT_EQ(faintIce(inputs, options).icePixels, 0);
+    inputs.unreadLost = cv::Mat::zeros(image.size(), CV_8U);
+    inputs.unreadLost(cv::Rect(40, 40, 60, 50)).setTo(255);
+    inputs.thicknessMm(cv::Rect(40, 40, 60, 50)).setTo(0.5f);  // read, but thinner than ice counts
+    const FaintIce unread = faintIce(inputs, options);
+    EXPECT_EQ(unread.lostPixels, 60 * 50);
+    EXPECT_EQ(unread.faintPixels, 60 * 50);
+    EXPECT_EQ(unread.icePixels, 60 * 50);
+    EXPECT_TRUE(unread.unmeasured(options));
+
+    inputs.thicknessMm(cv::Rect(40, 40, 30, 50)).setTo(50.0f);  // a block's top, carried from its edges
+    const FaintIce placed = faintIce(inputs, options);
+    EXPECT_EQ(placed.lostPixels, 30 * 50);
+    EXPECT_EQ(placed.icePixels, 60 * 50);
+    EXPECT_EQ(placed.faintPixels, 30 * 50);  // the rows there carry texture
 }
 
 // A registration gone wild places the object nowhere or far off the image: nothing there is
