@@ -3,7 +3,6 @@
 
 #include <cmath>
 
-#include "core/volume/patch_tracker.hpp"
 
 namespace icewatch::volume {
 
@@ -12,9 +11,6 @@ cv::Mat unreadLostTexture(const std::vector<TextureTrack>& tracks, const Rectifi
     CV_Assert(current.disparity.type() == CV_32FC1);
     const cv::Rect frame({}, current.disparity.size());
     cv::Mat unread(frame.size(), CV_8U, cv::Scalar(0));
-    PatchTrackOptions stereo = options.patch;
-    stereo.horizontalOnly = true;
-    stereo.searchPx = 2;
     const int step = options.stepPx;
     for (const TextureTrack& t : tracks) {
         if (!t.onObject || !t.inBaseline || t.state != TextureTrack::State::Untracked || t.glimpsed) continue;
@@ -22,12 +18,8 @@ cv::Mat unreadLostTexture(const std::vector<TextureTrack>& tracks, const Rectifi
         // The range first (NaN fails it too): a huge place must not reach the rounding.
         if (!(at.x > -0.5 && at.y > -0.5 && at.x < frame.width - 0.5 && at.y < frame.height - 0.5)) continue;
         const cv::Point place(static_cast<int>(std::lround(at.x)), static_cast<int>(std::lround(at.y)));
-        const float matched = current.disparity.at<float>(place);
-        bool read = false;
-        if (matched > 0) {
-            const PatchTrack inCurrent = trackPatch(current.left, current.right, place, {-double(matched), 0.0}, stereo);
-            read = inCurrent.found && std::sqrt(inCurrent.covariance(0, 0)) <= options.maxShiftSigmaPx;
-        }
+        const PatchTrack inCurrent = stereoPatchTrack(current, place, options);
+        const bool read = inCurrent.found && std::sqrt(inCurrent.covariance(0, 0)) <= options.maxShiftSigmaPx;
         if (!read) unread(cv::Rect(place.x - step / 2, place.y - step / 2, step, step) & frame).setTo(255);
     }
     return unread;

@@ -49,17 +49,10 @@ void forEachIndex(std::size_t n, const F& fn) {
     });
 }
 
-// The baseline's disparity at a sample, re-measured by a horizontal patch track from its left into
-// its right eye (NaN: not found).
+// The baseline's disparity at a sample, re-measured by its stereo patch track (NaN: not found).
 double stereoDisparity(const RectifiedCapture& baseline, cv::Point at, const TextureTrackOptions& o) {
-    constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
-    const float matched = baseline.disparity.at<float>(at);
-    if (!(matched > 0)) return kNone;
-    PatchTrackOptions stereo = o.patch;
-    stereo.horizontalOnly = true;
-    stereo.searchPx = 2;
-    const PatchTrack inBaseline = trackPatch(baseline.left, baseline.right, at, {-matched, 0.0}, stereo);
-    return inBaseline.found ? -inBaseline.shift.x : kNone;
+    const PatchTrack inBaseline = stereoPatchTrack(baseline, at, o);
+    return inBaseline.found ? -inBaseline.shift.x : std::numeric_limits<double>::quiet_NaN();
 }
 
 TextureTrack trackOne(const RectifiedCapture& baseline, const RectifiedCapture& current, cv::Point at, bool onObject,
@@ -114,6 +107,15 @@ TextureTrack trackOne(const RectifiedCapture& baseline, const RectifiedCapture& 
 }
 
 }  // namespace
+
+PatchTrack stereoPatchTrack(const RectifiedCapture& capture, cv::Point at, const TextureTrackOptions& o) {
+    const float matched = capture.disparity.at<float>(at);
+    if (!(matched > 0)) return {};
+    PatchTrackOptions stereo = o.patch;
+    stereo.horizontalOnly = true;
+    stereo.searchPx = 2;
+    return trackPatch(capture.left, capture.right, at, {-matched, 0.0}, stereo);
+}
 
 BaselineSamples baselineSamples(const RectifiedCapture& baseline, const cv::Mat& object, const TextureTrackOptions& o) {
     CV_Assert(object.type() == CV_8UC1 && baseline.disparity.size() == object.size());

@@ -86,6 +86,10 @@ struct TextureTrack {
 // outside it (dilated by the radius), where the baseline has a disparity. Work is split into
 // fixed bands of samples, so the result does not depend on the number of threads.
 
+// The left patch at `at` found again along the row in the capture's right eye, from the matcher's
+// disparity there (±2 px): the disparity is -shift.x. Not found where the matcher has none.
+PatchTrack stereoPatchTrack(const RectifiedCapture& capture, cv::Point at, const TextureTrackOptions& options);
+
 // The samples and step 1, which depend on the baseline alone (a daemon works them out once per
 // baseline, BaselineModel): every grid sample and the disparity its stereo track re-measured
 // there (NaN where the track found none).
