@@ -355,7 +355,8 @@ Surface VolumeChain::Impl::measure(StereoPair raw, StereoPair rawNoise, const Su
             100.0 - (100.0 - drawn->backgroundPercent) * (100.0 - raised.backgroundPercent) / 100.0;
     }
     else {
-        s.roi = segmentRoi(points, parameters.segmentationBandMm);
+        s.roi = segmentObject(points, s.leftGrey, parameters.segmentationBandMm, parameters.outlineMinTextureGrey,
+                              parameters.outlineMinContrastGrey);
         s.roiSegmented = true;
     }
     s.quality = measureImageQuality(s.rectifiedLeft, s.roi);

@@ -24,6 +24,18 @@ cv::Mat roiMaskFromPolygon(const std::vector<cv::Point2d>& polygon, const calib:
 // (the blade fills most of a well-aimed view), holes filled. Empty mask if nothing is found.
 cv::Mat segmentRoi(const cv::Mat& points, double depthBandMm);
 
+// Without a polygon, against a featureless background: the object is what that background, reached
+// from the frame's edge as from outside an outline drawn around the whole view, leaves of the
+// surface at the dominant depth (segmentRoi), its largest part with its holes filled, and its edge
+// found again from an outline drawn a little wider around that part. The matcher
+// fills a featureless sky with the depth of the object beside it, so depth alone finds the view;
+// the sky's look does not follow it (objectInDrawnOutline). Where the frame's edge is not mostly
+// featureless (a table, an object filling the view) it is segmentRoi's region. `grey`: the left
+// eye (CV_32F, 0 where nothing was pictured); `minTextureGrey`, `minContrastGrey` as for a drawn
+// outline.
+cv::Mat segmentObject(const cv::Mat& points, const cv::Mat& grey, double depthBandMm, double minTextureGrey,
+                      double minContrastGrey);
+
 // The share of the frame's edge pixels that `mask` covers. An object in view reaches two sides of
 // the frame at most (a blade across it); a segmented region that reaches most of the edge is the
 // view itself: a featureless sky the matcher filled with the object's depth, or a table the

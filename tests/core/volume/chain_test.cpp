@@ -794,6 +794,33 @@ TEST(VolumeChain, WithoutAnOutlineABladeOnATableIsRefusedAndSaysToDrawIt) {
     EXPECT_NE(r.reason.find("draw the object's outline"), std::string::npos) << r.reason;
 }
 
+// Against the sky depth alone found the view too (the matcher fills the featureless sky with the
+// blade's depth), and the chain refused for want of texture. What the sky leaves of it is the
+// blade: found so, the averaged blade reads as it does with its outline drawn.
+TEST(VolumeChain, WithoutAnOutlineABladeAgainstTheSkyIsWhatTheSkyLeaves) {
+    const synth::SyntheticScene scene = synth::renderScene(smallBladeSpec());
+    auto withoutOutline = [](Parameters& p) { p.roiPolygon.clear(); };
+    const VolumeResult drawn = measureRenderedBlade(scene, stereo::Method::Paper);
+    const VolumeResult found = measureRenderedBlade(scene, stereo::Method::Paper, withoutOutline);
+    ASSERT_TRUE(drawn.ok) << drawn.reason;
+    ASSERT_TRUE(found.ok) << found.reason;
+    EXPECT_LT(std::abs(found.volumeMm3 - scene.iceVolumeMm3), found.uncertaintyMm3)
+        << found.volumeMm3 << " +- " << found.uncertaintyMm3 << " against " << scene.iceVolumeMm3;
+    EXPECT_NEAR(found.volumeMm3, drawn.volumeMm3, 0.05 * scene.iceVolumeMm3);
+
+    // The region itself: the blade's outline, but for its edge's pixels.
+    Parameters p = sgbmParameters({});
+    p.stereoMethod = stereo::Method::Paper;
+    p.maxDisparity = 128;
+    VolumeChain chain(scene.calibration, p);
+    const Surface baseline = chain.measureSurface(cv::imdecode(scene.beforeJpeg.front(), cv::IMREAD_COLOR));
+    EXPECT_TRUE(baseline.roiSegmented);
+    const cv::Mat truth = roiMaskFromPolygon(scene.roi, scene.calibration);
+    const int union_ = cv::countNonZero(truth | baseline.roi);
+    EXPECT_GT(cv::countNonZero(truth & baseline.roi), 0.95 * union_)
+        << cv::countNonZero(baseline.roi) << " px found, " << cv::countNonZero(truth) << " in the outline";
+}
+
 // Both glazes of the renderer: one that veils the texture (seed 1) and one so clear that the texture
 // keeps its contrast, only brighter, as if the light had changed (seed 2): the sky's light says it
 // did not.
