@@ -39,6 +39,38 @@ cv::Mat largestPartFilled(const cv::Mat& mask) {
     return part;
 }
 
+// Whether `region` (CV_8U) is cut out of a surface that goes on beyond it: most of the pixels
+// just outside it (1-4 px, with a depth) lie within kContinuesMm of the region's depth beside them.
+// At an object's edge the depth steps to what is behind it; where the depth band cut a table or a
+// wall the object lies on, the surface goes on.
+bool surfaceContinues(const cv::Mat& region, const cv::Mat& points) {
+    constexpr double kContinuesMm = 30.0;
+    constexpr int kBesidePx = 6;
+    cv::Mat z(points.size(), CV_32F);
+    cv::extractChannel(points, z, 2);
+    const cv::Mat measured = z == z;  // NaN != NaN
+    const cv::Mat inside = region & measured;
+    cv::Mat zInside = cv::Mat::zeros(z.size(), CV_32F), weight;
+    z.copyTo(zInside, inside);
+    inside.convertTo(weight, CV_32F, 1.0 / 255.0);
+    const cv::Size window(2 * kBesidePx + 1, 2 * kBesidePx + 1);
+    cv::boxFilter(zInside, zInside, -1, window, {-1, -1}, false);
+    cv::boxFilter(weight, weight, -1, window, {-1, -1}, false);
+    cv::Mat outside, skip;
+    cv::dilate(region, outside, cv::getStructuringElement(cv::MORPH_RECT, {9, 9}));
+    cv::dilate(region, skip, cv::getStructuringElement(cv::MORPH_RECT, {3, 3}));
+    outside &= ~skip & measured;
+    int beside = 0, continuing = 0;
+    for (int y = 0; y < z.rows; ++y)
+        for (int x = 0; x < z.cols; ++x) {
+            if (!outside.at<std::uint8_t>(y, x) || !(weight.at<float>(y, x) > 0.5f)) continue;
+            ++beside;
+            const float mean = zInside.at<float>(y, x) / weight.at<float>(y, x);
+            if (std::abs(z.at<float>(y, x) - mean) < kContinuesMm) ++continuing;
+        }
+    return beside > 0 && 2 * continuing > beside;
+}
+
 }  // namespace
 
 std::vector<cv::Point2d> loadRoiPolygon(const std::filesystem::path& path) {
@@ -127,7 +159,13 @@ cv::Mat segmentObject(const cv::Mat& points, const cv::Mat& grey, double depthBa
     cv::erode(grey > 0.0f, view, cv::getStructuringElement(cv::MORPH_RECT, {2 * kBorderPx + 1, 2 * kBorderPx + 1}),
               {-1, -1}, 1, cv::BORDER_CONSTANT, cv::Scalar(0));  // the frame's edge is outside
     const DrawnOutline rough = objectInDrawnOutline(view, grey, minTextureGrey, minContrastGrey);
-    if (rough.backgroundPercent <= 0) return atDepth;
+    if (rough.backgroundPercent <= 0) {
+        // No sky around it. A region the depth band cut out of the surface the object lies on is
+        // the view (a blade on a table seen at 20°, faint, read -95 % and `ok` over a band of the
+        // table reaching under 60 % of the frame's edge): all of it, for the region gate to refuse.
+        if (surfaceContinues(atDepth, points)) return cv::Mat(points.size(), CV_8U, cv::Scalar(255));
+        return atDepth;
+    }
     const cv::Mat near = largestPartFilled(atDepth & rough.object);
     // Its edge once more, from an outline drawn 20 px around it: the ring along the view's edge
     // holds the sky's light across the whole frame, and its spread widens how like the sky a

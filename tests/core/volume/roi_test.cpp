@@ -1,6 +1,7 @@
 #include "core/volume/roi.hpp"
 
 #include <cmath>
+#include <functional>
 #include <limits>
 
 #include <gtest/gtest.h>
@@ -63,6 +64,35 @@ TEST(SegmentObject, OverATexturedBackgroundItIsTheRegionAtTheObjectsDepth) {
     const cv::Mat found = segmentObject(v.points, v.grey, kBandMm, kMinTextureGrey, kMinContrastGrey);
     // A table at the object's depth is no sky: the view stays, and the chain's gate refuses it.
     EXPECT_EQ(cv::countNonZero(found != segmentRoi(v.points, kBandMm)), 0);
+}
+
+// The bar's view with every pixel's depth set by `depthMm(x, y, onBar)`.
+void placeDepths(View& v, const std::function<double(int, int, bool)>& depthMm) {
+    for (int y = 0; y < v.points.rows; ++y)
+        for (int x = 0; x < v.points.cols; ++x) {
+            cv::Vec3f& p = v.points.at<cv::Vec3f>(y, x);
+            if (std::isnan(p[2])) continue;
+            p[2] = static_cast<float>(depthMm(x, y, v.object.at<std::uint8_t>(y, x) != 0));
+        }
+}
+
+TEST(SegmentObject, ABandCutOutOfATexturedSurfaceItLiesOnIsTheView) {
+    // A table seen at an angle: 1.5 mm deeper each row, so the depth band cuts a strip out of it.
+    View v = barInView(true);
+    placeDepths(v, [](int, int y, bool) { return kDepthMm + 1.5 * (y - 150); });
+    const cv::Mat atDepth = segmentRoi(v.points, kBandMm);
+    ASSERT_LT(frameEdgeShare(atDepth), 0.6) << "the strip alone passes for an object";
+    const cv::Mat found = segmentObject(v.points, v.grey, kBandMm, kMinTextureGrey, kMinContrastGrey);
+    EXPECT_EQ(cv::countNonZero(found), found.rows * found.cols) << "the whole view, for the region gate";
+}
+
+TEST(SegmentObject, AnObjectBeforeATexturedBackgroundFarBehindItIsItsDepthsRegion) {
+    // Ground receding behind it, from 600 mm beyond it: the bar is the dominant depth.
+    View v = barInView(true);
+    placeDepths(v, [](int, int y, bool onBar) { return onBar ? kDepthMm : kDepthMm + 600.0 + 20.0 * y; });
+    const cv::Mat found = segmentObject(v.points, v.grey, kBandMm, kMinTextureGrey, kMinContrastGrey);
+    // The region's opening rounds the bar's corners.
+    EXPECT_LT(cv::countNonZero(found != v.object), 80) << "of " << cv::countNonZero(v.object) << " on the bar";
 }
 
 TEST(SegmentObject, NothingAtAnyDepthIsNoRegion) {
