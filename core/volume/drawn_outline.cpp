@@ -25,22 +25,6 @@ constexpr int kMinBackgroundPixels = 25;
 // The ring outside the drawn outline whose look says what it was drawn over.
 constexpr int kRingPx = 6;
 
-// Mean of `values` over `where` within a (2r+1)² window; NaN where the window holds none.
-cv::Mat localMean(const cv::Mat& values, const cv::Mat& where, int r) {
-    cv::Mat weight, sum;
-    where.convertTo(weight, CV_32F, 1.0 / 255.0);
-    cv::boxFilter(values.mul(weight), sum, -1, {2 * r + 1, 2 * r + 1}, {-1, -1}, false);
-    cv::boxFilter(weight, weight, -1, {2 * r + 1, 2 * r + 1}, {-1, -1}, false);
-    cv::Mat mean(values.size(), CV_32F);
-    for (int y = 0; y < mean.rows; ++y) {
-        const float* s = sum.ptr<float>(y);
-        const float* n = weight.ptr<float>(y);
-        float* m = mean.ptr<float>(y);
-        for (int x = 0; x < mean.cols; ++x) m[x] = n[x] > 0.5f ? s[x] / n[x] : std::nanf("");
-    }
-    return mean;
-}
-
 // The values of `values` (CV_32F) where `where` (CV_8U) is set.
 std::vector<float> valuesWhere(const cv::Mat& values, const cv::Mat& where) {
     std::vector<float> v;

@@ -3,7 +3,6 @@
 
 #include <cmath>
 
-
 namespace icewatch::volume {
 
 cv::Mat unreadLostTexture(const std::vector<TextureTrack>& tracks, const RectifiedCapture& current,

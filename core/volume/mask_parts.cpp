@@ -2,6 +2,7 @@
 #include "core/volume/mask_parts.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -46,6 +47,21 @@ cv::Mat largeParts(const cv::Mat& mask, int ofLargest) {
         for (int x = 0; x < labels.cols; ++x) part[x] = keep[static_cast<std::size_t>(label[x])];
     }
     return parts;
+}
+
+cv::Mat localMean(const cv::Mat& values, const cv::Mat& where, int r) {
+    cv::Mat weight, sum;
+    where.convertTo(weight, CV_32F, 1.0 / 255.0);
+    cv::boxFilter(values.mul(weight), sum, -1, {2 * r + 1, 2 * r + 1}, {-1, -1}, false);
+    cv::boxFilter(weight, weight, -1, {2 * r + 1, 2 * r + 1}, {-1, -1}, false);
+    cv::Mat mean(values.size(), CV_32F);
+    for (int y = 0; y < mean.rows; ++y) {
+        const float* s = sum.ptr<float>(y);
+        const float* n = weight.ptr<float>(y);
+        float* m = mean.ptr<float>(y);
+        for (int x = 0; x < mean.cols; ++x) m[x] = n[x] > 0.5f ? s[x] / n[x] : std::nanf("");
+    }
+    return mean;
 }
 
 }  // namespace icewatch::volume

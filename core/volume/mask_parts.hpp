@@ -13,6 +13,10 @@ cv::Mat partsHolding(const cv::Mat& mask, const cv::Mat& seeds, int connectivity
 // flood went round. Empty (all zero) when `mask` is.
 cv::Mat largeParts(const cv::Mat& mask, int ofLargest);
 
+// The mean of `values` (CV_32F, finite wherever `where` is set) over the pixels of `where` (CV_8U)
+// within a (2r+1)² window around each pixel; NaN where the window holds none.
+cv::Mat localMean(const cv::Mat& values, const cv::Mat& where, int r);
+
 // What the region's stages keep of an outline once a background is taken out of it
 // (drawn_outline, raised_object): a part smaller than 1/this of the largest is a speck the flood
 // went round.

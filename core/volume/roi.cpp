@@ -13,6 +13,7 @@
 
 #include "core/common/error.hpp"
 #include "core/volume/drawn_outline.hpp"
+#include "core/volume/mask_parts.hpp"
 
 namespace icewatch::volume {
 
@@ -50,12 +51,9 @@ bool surfaceContinues(const cv::Mat& region, const cv::Mat& points) {
     cv::extractChannel(points, z, 2);
     const cv::Mat measured = z == z;  // NaN != NaN
     const cv::Mat inside = region & measured;
-    cv::Mat zInside = cv::Mat::zeros(z.size(), CV_32F), weight;
+    cv::Mat zInside = cv::Mat::zeros(z.size(), CV_32F);
     z.copyTo(zInside, inside);
-    inside.convertTo(weight, CV_32F, 1.0 / 255.0);
-    const cv::Size window(2 * kBesidePx + 1, 2 * kBesidePx + 1);
-    cv::boxFilter(zInside, zInside, -1, window, {-1, -1}, false);
-    cv::boxFilter(weight, weight, -1, window, {-1, -1}, false);
+    const cv::Mat besideMean = localMean(zInside, inside, kBesidePx);
     cv::Mat outside, skip;
     cv::dilate(region, outside, cv::getStructuringElement(cv::MORPH_RECT, {9, 9}));
     cv::dilate(region, skip, cv::getStructuringElement(cv::MORPH_RECT, {3, 3}));
@@ -63,9 +61,9 @@ bool surfaceContinues(const cv::Mat& region, const cv::Mat& points) {
     int beside = 0, continuing = 0;
     for (int y = 0; y < z.rows; ++y)
         for (int x = 0; x < z.cols; ++x) {
-            if (!outside.at<std::uint8_t>(y, x) || !(weight.at<float>(y, x) > 0.5f)) continue;
+            const float mean = besideMean.at<float>(y, x);
+            if (!outside.at<std::uint8_t>(y, x) || std::isnan(mean)) continue;
             ++beside;
-            const float mean = zInside.at<float>(y, x) / weight.at<float>(y, x);
             if (std::abs(z.at<float>(y, x) - mean) < kContinuesMm) ++continuing;
         }
     return beside > 0 && 2 * continuing > beside;
