@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <optional>
 
 #include <nlohmann/json.hpp>
 #include <opencv2/calib3d.hpp>
@@ -67,6 +68,51 @@ bool surfaceContinues(const cv::Mat& region, const cv::Mat& points) {
             if (std::abs(z.at<float>(y, x) - mean) < kContinuesMm) ++continuing;
         }
     return beside > 0 && 2 * continuing > beside;
+}
+
+// The inverse depth of the plane best fitting the points of `where` (CV_8U), as a x + b y + c of
+// the pixel (x, y): a plane's inverse depth is affine in the pixel. Every 4th pixel each way is
+// enough for three numbers. None when fewer than kMinPoints are measured or the fit is singular.
+std::optional<cv::Vec3d> inverseDepthPlane(const cv::Mat& points, const cv::Mat& where) {
+    constexpr int kStepPx = 4;
+    constexpr int kMinPoints = 100;
+    cv::Matx33d normal = cv::Matx33d::zeros();
+    cv::Vec3d right(0, 0, 0);
+    int n = 0;
+    for (int y = kStepPx / 2; y < points.rows; y += kStepPx) {
+        const auto* row = points.ptr<cv::Vec3f>(y);
+        const auto* in = where.ptr<std::uint8_t>(y);
+        for (int x = kStepPx / 2; x < points.cols; x += kStepPx) {
+            const float z = row[x][2];
+            if (!in[x] || std::isnan(z) || z <= 0) continue;
+            const cv::Vec3d a(x, y, 1.0);
+            normal += a * a.t();
+            right += a * (1.0 / z);
+            ++n;
+        }
+    }
+    if (n < kMinPoints) return std::nullopt;
+    cv::Vec3d plane;
+    if (!cv::solve(normal, right, plane, cv::DECOMP_CHOLESKY)) return std::nullopt;
+    return plane;
+}
+
+// The largest part, holes filled and opened against single pixels, of the pixels whose depth lies
+// within bandMm of the surface whose inverse depth is `plane` (a x + b y + c).
+cv::Mat partWithinBand(const cv::Mat& points, const cv::Vec3d& plane, double bandMm) {
+    cv::Mat band = cv::Mat::zeros(points.size(), CV_8U);
+    for (int y = 0; y < points.rows; ++y) {
+        const auto* row = points.ptr<cv::Vec3f>(y);
+        auto* out = band.ptr<std::uint8_t>(y);
+        for (int x = 0; x < points.cols; ++x) {
+            const double inverse = plane[0] * x + plane[1] * y + plane[2];
+            if (std::isnan(row[x][2]) || !(inverse > 0)) continue;
+            if (std::abs(row[x][2] - 1.0 / inverse) < bandMm) out[x] = 255;
+        }
+    }
+    const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_ELLIPSE, {7, 7});
+    cv::morphologyEx(band, band, cv::MORPH_OPEN, kernel);
+    return largestPartFilled(band);
 }
 
 }  // namespace
@@ -132,17 +178,17 @@ cv::Mat segmentRoi(const cv::Mat& points, double depthBandMm) {
     const auto peak = std::max_element(histogram.begin(), histogram.end());
     if (*peak == 0) return cv::Mat::zeros(points.size(), CV_8U);
     const double dominantMm = (static_cast<double>(peak - histogram.begin()) + 0.5) * 10.0;
-    cv::Mat band = cv::Mat::zeros(points.size(), CV_8U);
-    for (int y = 0; y < points.rows; ++y) {
-        const auto* row = points.ptr<cv::Vec3f>(y);
-        auto* out = band.ptr<std::uint8_t>(y);
-        for (int x = 0; x < points.cols; ++x) {
-            if (!std::isnan(row[x][2]) && std::abs(row[x][2] - dominantMm) < depthBandMm) out[x] = 255;
-        }
+    cv::Mat region = partWithinBand(points, cv::Vec3d(0, 0, 1.0 / dominantMm), depthBandMm);
+    // A blade turned out of the view (pitched, or swung about the tower) spans more depth than the
+    // band from root to tip: a blade swung 13° lost its tip to the band about one depth, and the
+    // tip's surface, left in the ring around the region, hid the bead beside it. The object's
+    // surface is the band's centre instead, twice: the first part is most of it.
+    for (int pass = 0; pass < 2; ++pass) {
+        const std::optional<cv::Vec3d> surface = inverseDepthPlane(points, region);
+        if (!surface) break;
+        region = partWithinBand(points, *surface, depthBandMm);
     }
-    const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_ELLIPSE, {7, 7});
-    cv::morphologyEx(band, band, cv::MORPH_OPEN, kernel);
-    return largestPartFilled(band);
+    return region;
 }
 
 cv::Mat segmentObject(const cv::Mat& points, const cv::Mat& grey, double depthBandMm, double minTextureGrey,

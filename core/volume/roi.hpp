@@ -21,7 +21,9 @@ std::vector<cv::Point2d> polygonFromFlat(const std::vector<double>& flat);
 cv::Mat roiMaskFromPolygon(const std::vector<cv::Point2d>& polygon, const calib::StereoCalibration& calibration);
 
 // Without a polygon: the largest connected surface at the dominant depth of the capture
-// (the blade fills most of a well-aimed view), holes filled. Empty mask if nothing is found.
+// (the blade fills most of a well-aimed view), holes filled; then, twice, the largest within the
+// same band of the plane that part lies on, so that an object turned out of the view keeps the
+// ends the band about one depth cuts off. Empty mask if nothing is found.
 cv::Mat segmentRoi(const cv::Mat& points, double depthBandMm);
 
 // Without a polygon, against a featureless background: the object is what that background, reached

@@ -77,9 +77,10 @@ void placeDepths(View& v, const std::function<double(int, int, bool)>& depthMm) 
 }
 
 TEST(SegmentObject, ABandCutOutOfATexturedSurfaceItLiesOnIsTheView) {
-    // A table seen at an angle: 1.5 mm deeper each row, so the depth band cuts a strip out of it.
+    // A table bent away from the view, deeper by the square of the distance from its middle row,
+    // so that the band about its plane cuts a strip out of it.
     View v = barInView(true);
-    placeDepths(v, [](int, int y, bool) { return kDepthMm + 1.5 * (y - 150); });
+    placeDepths(v, [](int, int y, bool) { return kDepthMm + 0.02 * (y - 150) * (y - 150); });
     const cv::Mat atDepth = segmentRoi(v.points, kBandMm);
     ASSERT_LT(frameEdgeShare(atDepth), 0.6) << "the strip alone passes for an object";
     const cv::Mat found = segmentObject(v.points, v.grey, kBandMm, kMinTextureGrey, kMinContrastGrey);
@@ -93,6 +94,16 @@ TEST(SegmentObject, AnObjectBeforeATexturedBackgroundFarBehindItIsItsDepthsRegio
     const cv::Mat found = segmentObject(v.points, v.grey, kBandMm, kMinTextureGrey, kMinContrastGrey);
     // The region's opening rounds the bar's corners.
     EXPECT_LT(cv::countNonZero(found != v.object), 80) << "of " << cv::countNonZero(v.object) << " on the bar";
+}
+
+TEST(SegmentObject, AnObjectTurnedOutOfTheViewKeepsTheEndsOneDepthsBandCutsOff) {
+    // The bar swung about the vertical, a plane (its inverse depth affine in the pixel) from 650 mm
+    // to 1150 mm deep end to end, with the sky the matcher filled at the bar's depth in each column.
+    View v = barInView(false);
+    placeDepths(v, [](int x, int, bool) { return 1.0 / (1.0 / kDepthMm - 1.97e-6 * (x - 235)); });
+    const cv::Mat found = segmentObject(v.points, v.grey, kBandMm, kMinTextureGrey, kMinContrastGrey);
+    EXPECT_LT(cv::countNonZero(v.object & ~found), 100) << "of " << cv::countNonZero(v.object) << " on the bar";
+    EXPECT_LT(cv::countNonZero(found & ~v.object), 100);
 }
 
 TEST(SegmentObject, NothingAtAnyDepthIsNoRegion) {
