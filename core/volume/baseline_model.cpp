@@ -64,7 +64,7 @@ BaselineModel buildBaselineModel(const cv::Mat& roi, const cv::Mat& points, cons
     model.ring = baselineCloud(points, model.ringMeasurable, model.plane, p);
     cv::dilate(roi, model.objectGrown, cv::getStructuringElement(cv::MORPH_ELLIPSE, {5, 5}));
     model.featureless = featurelessBackground(leftGrey, model.objectGrown, p.outlineMinTextureGrey);
-    model.blurPx = outlineBlurPx(leftGrey, roi, cv::Rect(0, 0, leftGrey.cols, leftGrey.rows));
+    model.blurPx = objectBlurPx(leftGrey, roi, cv::Rect(0, 0, leftGrey.cols, leftGrey.rows));
     return model;
 }
 

@@ -32,8 +32,8 @@ struct BaselineModel {
     // by 2 px, which the comparisons leave out, and the featureless background beside it.
     cv::Mat objectGrown;
     cv::Mat featureless;
-    // How blurred the baseline is, read off its outline (edge_blur.hpp); none where its outline
-    // does not stand out of its background.
+    // How blurred the baseline is, read off its outline or the object's edge around it
+    // (objectBlurPx, edge_blur.hpp); none where neither stands out of its background.
     std::optional<double> blurPx;
 };
 

@@ -708,8 +708,9 @@ void VolumeChain::Impl::budget(const ThicknessMap& map, const PlaneFrame& plane,
                                const BaselineModel& model, const cv::Mat& objectInCurrent,
                                VolumeResult& result) const {
     const Parameters& p = parameters;
-    // Blurred captures spread every step of the ice: the more blurred of the two, as its outline shows.
-    const std::optional<double> currentBlur = outlineBlurPx(current.leftGrey, objectInCurrent, current.matchedWindow);
+    // Blurred captures spread every step of the ice: the more blurred of the two, as its outline
+    // or the edge around it shows.
+    const std::optional<double> currentBlur = objectBlurPx(current.leftGrey, objectInCurrent, current.matchedWindow);
     result.blurPx = std::max(model.blurPx.value_or(0.0), currentBlur.value_or(0.0));
     // Seen at an angle the ice's edges occlude the surface behind them, as far as the surface's
     // measurement reaches (the same reach the ice mask grew by).

@@ -97,7 +97,7 @@ struct VolumeResult {
     // mm, and at how many stations it was measured (outline_growth.hpp; none: not against a sky).
     std::array<double, 2> outlineGrowthMm{0.0, 0.0};
     std::array<int, 2> outlineGrowthStations{0, 0};
-    // How blurred the captures are, read off the outline (edge_blur.hpp), px; 0: not read.
+    // How blurred the captures are, read off the outline or the edge around it (edge_blur.hpp), px; 0: not read.
     double blurPx = 0;
     // Of the pixels where ice was read, the share whose texture along the rows is too faint for
     // stereo to tell their depth (row_texture.hpp), %.

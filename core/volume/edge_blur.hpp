@@ -35,4 +35,17 @@ double blurBeyondPixelsPx(double measuredPx);
 std::optional<double> outlineBlurPx(const cv::Mat& grey, const cv::Mat& roi, const cv::Rect& valid,
                                     const EdgeBlurOptions& options = {});
 
+// How far around the outline the object's edge is looked for when the outline stands on none.
+inline constexpr int kMaxEdgeSearchPx = 32;
+
+// The blur read off the outline (outlineBlurPx) or, where the outline stands on no step, off the
+// edge around it: the outline grown by halfLengthPx at a time, up to kMaxEdgeSearchPx, each
+// profile cut around its steepest rise, and the growth whose stations see a step most often taken.
+// An outline may be drawn inside the object's edge (a plate's, kept off its rim); read as none,
+// the blur was taken for the pixels' own, and a capture blurred by 1.75 px lost the fattening its
+// steps carry (a rendered block of 150 000 mm³ read +21.3 % within ±63 023 mm³; its edge, found,
+// reads 1.81 px, and the same +21.3 % within ±105 177).
+std::optional<double> objectBlurPx(const cv::Mat& grey, const cv::Mat& roi, const cv::Rect& valid,
+                                   const EdgeBlurOptions& options = {});
+
 }  // namespace icewatch::volume

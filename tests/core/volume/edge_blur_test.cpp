@@ -11,15 +11,15 @@
 namespace icewatch::volume {
 namespace {
 
-// A band darker than its background, textured as a blade and a table are, drawn at 4x and reduced
+// A band (rows top to bottom) darker than its background, textured as a blade and a table are, drawn at 4x and reduced
 // by area (the pixels' own box), then blurred by `sigmaPx` and given a little noise.
-cv::Mat bandImage(double sigmaPx, cv::Mat* roi) {
+cv::Mat bandImage(double sigmaPx, cv::Mat* roi, double top = 100.4, double bottom = 140.4) {
     const int w = 400, h = 240, s = 4;
     cv::Mat fine(h * s, w * s, CV_32F);
     for (int y = 0; y < fine.rows; ++y)
         for (int x = 0; x < fine.cols; ++x) {
             const double u = x / double(s), v = y / double(s);
-            const bool band = u >= 60.3 && u < 340.3 && v >= 100.4 && v < 140.4;
+            const bool band = u >= 60.3 && u < 340.3 && v >= top && v < bottom;
             const double table = 110.0 + 8.0 * std::sin(0.9 * u + 0.4 * v);
             const double blade = 160.0 + 4.0 * std::sin(0.35 * u) * std::sin(0.3 * v);
             fine.at<float>(y, x) = static_cast<float>(band ? blade : table);
@@ -32,7 +32,8 @@ cv::Mat bandImage(double sigmaPx, cv::Mat* roi) {
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) image.at<float>(y, x) += noise(random);
     *roi = cv::Mat::zeros(h, w, CV_8U);
-    (*roi)(cv::Rect(60, 100, 281, 41)).setTo(255);
+    const int y0 = static_cast<int>(top), y1 = static_cast<int>(bottom);
+    (*roi)(cv::Rect(60, y0, 281, y1 - y0 + 1)).setTo(255);
     return image;
 }
 
@@ -50,6 +51,25 @@ TEST(EdgeBlur, TheOutlinesSpreadIsTheLenssBlur) {
         ASSERT_TRUE(blurred) << sigma;
         EXPECT_NEAR(*blurred, std::hypot(sigma, *sharp), 0.15 * sigma) << sigma;
     }
+}
+
+TEST(EdgeBlur, AnOutlineDrawnInsideTheObjectsEdgeReadsTheEdgeAroundIt) {
+    // The band's outline drawn 14 px in from its long edges and 20 px from its ends (a plate's
+    // outline kept off its rim): no step under it, the band's edge a little way out.
+    cv::Mat roi;
+    const cv::Rect all(0, 0, 400, 240);
+    const cv::Mat image = bandImage(2.0, &roi, 70.4, 170.4);
+    cv::Mat inside = cv::Mat::zeros(roi.size(), CV_8U);
+    inside(cv::Rect(80, 84, 241, 73)).setTo(255);
+    ASSERT_FALSE(outlineBlurPx(image, inside, all)) << "the outline stands on the band's own texture";
+    const std::optional<double> edge = objectBlurPx(image, roi, all);
+    const cv::Mat drawn = inside.clone();
+    const std::optional<double> found = objectBlurPx(image, inside, all);
+    EXPECT_EQ(cv::countNonZero(inside != drawn), 0) << "the outline itself stays as drawn";
+    ASSERT_TRUE(edge);
+    ASSERT_TRUE(found);
+    EXPECT_NEAR(*found, *edge, 0.2);
+    EXPECT_GT(*found, 1.7);
 }
 
 TEST(EdgeBlur, AnOutlineThatStandsOutOfNothingSaysNothing) {
